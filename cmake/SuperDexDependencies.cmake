@@ -1,0 +1,16 @@
+# Finds the Debian-packaged dependencies and wraps the ones without a CMake
+# package in SuperDex:: imported targets.
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
+find_library(SUITESPARSECONFIG_LIBRARY suitesparseconfig REQUIRED)
+add_library(SuperDex::cholmod INTERFACE IMPORTED)
+target_include_directories(SuperDex::cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(SuperDex::cholmod INTERFACE ${CHOLMOD_LIBRARY} ${SUITESPARSECONFIG_LIBRARY})
+
+find_path(METIS_INCLUDE_DIR metis.h REQUIRED)
+find_library(METIS_LIBRARY metis REQUIRED)
+add_library(SuperDex::metis INTERFACE IMPORTED)
+target_include_directories(SuperDex::metis SYSTEM INTERFACE ${METIS_INCLUDE_DIR})
+target_link_libraries(SuperDex::metis INTERFACE ${METIS_LIBRARY})

@@ -1,0 +1,106 @@
+// The linear-solver interface used by the Newton stage solver: a small state
+// machine keyed on the matrix's pattern version.
+//
+//   Analyze(A)    once per pattern (symbolic analysis, allocation)
+//   Factorize(A)  once per Newton iteration (numeric factorization / set-up)
+//   Solve(b, x)   any number of times after Factorize
+//
+// Out-of-order calls (Factorize before Analyze, Factorize with a matrix whose
+// pattern version differs from the analyzed one, Solve before Factorize) are
+// reported as kInvalidState, never undefined behaviour. Every call returns
+// one typed result; failure is never signalled with NaN.
+//
+// The matrix passed to Analyze is already fill-reducing ordered by the
+// assembler (METIS); backends factor it in the given order.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include <superdex/core/error.h>
+#include <superdex/core/types.h>
+#include <superdex/linsolve/sparse_symmetric_matrix.h>
+
+namespace superdex {
+
+enum class LinearSolverType {
+  kAuto,     ///< dense up to kDenseSolverMaxSize unknowns, CHOLMOD above
+  kCholmod,  ///< SuiteSparse CHOLMOD supernodal Cholesky
+  kDense,    ///< dense Cholesky (Eigen), for tiny systems
+};
+
+std::string_view ToString(LinearSolverType type);
+
+/// Largest system size for which kAuto picks the dense backend. Taken from the
+/// measurement in docs/linear_solvers.md (perf/dense_vs_sparse).
+inline constexpr int kDenseSolverMaxSize = 60;
+
+enum class LinearSolveStatus {
+  kOk,
+  kNotPositiveDefinite,  ///< `failingColumn` holds the column where it failed
+  kNotConverged,         ///< iterative backends: `reason`, `iterations`, `relativeResidual`
+  kBackendError,         ///< the external library reported an error: `reason`
+  kInvalidState,         ///< call out of order, or pattern changed since Analyze
+};
+
+std::string_view ToString(LinearSolveStatus status);
+
+struct LinearSolveResult {
+  LinearSolveStatus status = LinearSolveStatus::kOk;
+  int failingColumn = -1;      ///< kNotPositiveDefinite: column in the matrix's (given) order
+  int iterations = 0;          ///< iterative backends; 0 for direct ones
+  real relativeResidual = 0;   ///< ‖Ax − b‖/‖b‖ when the backend computes it, else 0
+  std::string reason;          ///< human-readable cause when status != kOk
+
+  bool Ok() const { return status == LinearSolveStatus::kOk; }
+};
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+
+  /// Symbolic analysis of A's pattern. Required before the first Factorize
+  /// and after every change of A.patternVersion.
+  LinearSolveResult Analyze(SparseSymmetricMatrix const& a);
+  /// Numeric factorization of A's current values. A must carry the analyzed
+  /// pattern version.
+  LinearSolveResult Factorize(SparseSymmetricMatrix const& a);
+  /// Solves A x = b with the last factorization. b and x have A.size entries
+  /// and may not alias.
+  LinearSolveResult Solve(Span<real const> b, Span<real> x);
+
+  bool IsAnalyzed() const { return analyzed_; }
+  std::uint64_t GetAnalyzedPatternVersion() const { return analyzedVersion_; }
+
+  virtual LinearSolverType GetType() const = 0;
+  /// What really ran, as the backend reports it ("CHOLMOD supernodal", ...).
+  virtual std::string GetDescription() const = 0;
+  /// Nonzeros of the Cholesky factor L (after Analyze), or -1 if unknown.
+  virtual double GetFactorNonzeros() const = 0;
+  /// Floating-point operations of the last factorization (after Analyze), or -1.
+  virtual double GetFactorFlops() const = 0;
+
+ protected:
+  virtual LinearSolveResult DoAnalyze(SparseSymmetricMatrix const& a) = 0;
+  virtual LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) = 0;
+  virtual LinearSolveResult DoSolve(Span<real const> b, Span<real> x) = 0;
+
+ private:
+  bool analyzed_ = false;
+  bool factorized_ = false;
+  int size_ = 0;
+  std::uint64_t analyzedVersion_ = 0;
+};
+
+/// The backends compiled into this build (kAuto not included).
+DynamicArray<LinearSolverType> AvailableLinearSolvers();
+
+/// The backend kAuto resolves to for a system of `size` unknowns.
+LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size);
+
+/// A new solver of a concrete type (not kAuto). Returns nullptr and sets
+/// `error` when the type is not compiled in.
+std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, Error& error);
+
+}  // namespace superdex
