@@ -1,0 +1,93 @@
+// Actor: an owner of a contiguous range of generalized DoFs in the scene's
+// configuration (design.md §3). The public part is identity and introspection;
+// the stage solver drives the dynamics through the internal interface below.
+#pragma once
+
+#include <memory>
+
+#include <superdex/core/handle.h>
+#include <superdex/core/types.h>
+
+namespace superdex {
+
+class Scene;
+
+enum class ActorType { kRigid };
+
+std::string_view ToString(ActorType type);
+
+namespace internal {
+class StageSolver;
+struct StageCoefficients;
+class HessianAssembler;
+struct ActorTestAccess;  // defined by white-box tests only
+
+/// Opaque copy of an actor's complete dynamic state (configuration,
+/// velocities, integrator history), for transactional steps.
+struct ActorSnapshot {
+  virtual ~ActorSnapshot() = default;
+};
+}  // namespace internal
+
+class Actor {
+ public:
+  virtual ~Actor() = default;
+  Actor(Actor const&) = delete;
+  Actor& operator=(Actor const&) = delete;
+
+  ActorHandle GetHandle() const { return handle_; }
+  ActorType GetType() const { return type_; }
+  /// Number of generalized DoFs (6 for a rigid body).
+  int GetNumDofs() const { return numDofs_; }
+  /// First global DoF index of this actor; its DoFs are [offset, offset + n).
+  /// Global indices change when actors created before it are destroyed.
+  int GetDofOffset() const { return dofOffset_; }
+
+ protected:
+  Actor(ActorType type, int numDofs) : type_(type), numDofs_(numDofs) {}
+
+  // ---- internal interface, driven by the scene and the stage solver ----
+  friend class Scene;
+  friend class internal::StageSolver;
+  friend struct internal::ActorTestAccess;
+
+  /// Sizes of the DoF blocks that form one vertex each in the ordering graph
+  /// (one block of 6 for a rigid body, one of 3 per deformable node, ...).
+  virtual void AppendDofBlockSizes(DynamicArray<int>& sizes) const = 0;
+  /// Number of Hessian contributors this actor adds and their DoF lists
+  /// (global indices), appended in a fixed order.
+  virtual void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const = 0;
+
+  /// Prepares a stage from the committed state: start configuration,
+  /// inertial target and weight (from the integrator coefficients). An actor
+  /// without history yet (its first step) uses backward Euler's coefficients.
+  virtual void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) = 0;
+  /// Inertia + gravity (+ internal elastic) energy at the current iterate.
+  virtual real Energy() const = 0;
+  /// Adds the energy gradient into `gradient` (global, natural order) and the
+  /// PSD Hessian blocks through the assembler, contributors starting at
+  /// `firstContributor`.
+  virtual void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+                                     int firstContributor) const = 0;
+  /// Saves the current iterate; RestoreIterate returns to it (line search).
+  virtual void SaveIterate() = 0;
+  virtual void RestoreIterate() = 0;
+  /// q ← saved iterate ⊕ α·δ, δ read from the global increment vector.
+  virtual void ApplyIncrementFromSaved(Span<real const> delta, real alpha) = 0;
+  /// True when every configuration value is finite.
+  virtual bool IsStateFinite() const = 0;
+  /// Commits the converged stage: velocities and integrator history.
+  virtual void EndStage() = 0;
+
+  /// Copies the complete dynamic state into `snapshot` (allocated on first
+  /// use, reused afterwards); RestoreSnapshot puts it back bit for bit.
+  virtual void SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const = 0;
+  virtual void RestoreSnapshot(internal::ActorSnapshot const& snapshot) = 0;
+
+  ActorHandle handle_;
+  ActorType type_;
+  int numDofs_;
+  int dofOffset_ = 0;
+};
+
+}  // namespace superdex

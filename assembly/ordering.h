@@ -1,0 +1,41 @@
+// Fill-reducing ordering of the global Hessian, computed on the compressed
+// block graph: one vertex per DoF block (a rigid body, a deformable node),
+// weighted by its size, an edge wherever some contributor couples two blocks.
+// The scalar permutation keeps every block's DoFs contiguous.
+#pragma once
+
+#include <string_view>
+
+#include <superdex/core/error.h>
+#include <superdex/core/types.h>
+
+namespace superdex {
+
+enum class OrderingMethod {
+  kMetis,    ///< METIS_NodeND nested dissection on the block graph (default)
+  kNatural,  ///< DoFs in actor-creation order (for comparisons)
+};
+
+std::string_view ToString(OrderingMethod method);
+
+namespace internal {
+
+/// Block graph in CSR form (no self loops, symmetric).
+struct BlockGraph {
+  DynamicArray<int> blockSizes;
+  DynamicArray<int> adjacencyStart;  ///< numBlocks + 1
+  DynamicArray<int> adjacency;
+};
+
+/// Builds the block graph of contributors given by their global DoF lists.
+/// `dofToBlock` maps each DoF to its block.
+BlockGraph BuildBlockGraph(DynamicArray<int> const& blockSizes, DynamicArray<int> const& dofToBlock,
+                           DynamicArray<DynamicArray<int>> const& contributorDofs);
+
+/// Ordered position of every block: blockOrder[newPosition] = block.
+/// Returns false and sets `error` if METIS fails.
+bool OrderBlocks(BlockGraph const& graph, OrderingMethod method, DynamicArray<int>& blockOrder,
+                 Error& error);
+
+}  // namespace internal
+}  // namespace superdex

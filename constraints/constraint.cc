@@ -1,0 +1,277 @@
+#include <superdex/constraints/constraint.h>
+
+#include <limits>
+
+#include <superdex/actors/actor.h>
+#include <superdex/assembly/hessian_assembler.h>
+#include <superdex/core/validate.h>
+
+namespace superdex {
+
+std::string_view ToString(ConstraintType type) {
+  switch (type) {
+    case ConstraintType::RigidSphericalJoint: return "RigidSphericalJoint";
+    case ConstraintType::RigidPrismaticJoint: return "RigidPrismaticJoint";
+    case ConstraintType::JointRotationRange: return "JointRotationRange";
+    case ConstraintType::JointRotationTracking: return "JointRotationTracking";
+    case ConstraintType::RigidPivotPosition: return "RigidPivotPosition";
+    case ConstraintType::RigidPivotToRigidTarget: return "RigidPivotToRigidTarget";
+    case ConstraintType::RigidPivotRotation: return "RigidPivotRotation";
+    case ConstraintType::DeformableNodePosition: return "DeformableNodePosition";
+    case ConstraintType::DeformableNodeToDeformableNode: return "DeformableNodeToDeformableNode";
+    case ConstraintType::DeformableNodeToRigid: return "DeformableNodeToRigid";
+    case ConstraintType::ArticulatedSingleDofTarget: return "ArticulatedSingleDofTarget";
+    case ConstraintType::ArticulatedSingleDofRange: return "ArticulatedSingleDofRange";
+    case ConstraintType::Articulated3dRotationTarget: return "Articulated3dRotationTarget";
+    case ConstraintType::Articulated3dRotationRange: return "Articulated3dRotationRange";
+    case ConstraintType::RodElementRotationToRigid: return "RodElementRotationToRigid";
+  }
+  return "Unknown";
+}
+
+std::string_view ToString(QueryType type) {
+  switch (type) {
+    case QueryType::ConstraintForce: return "ConstraintForce";
+  }
+  return "Unknown";
+}
+
+namespace internal {
+void ConstraintWorkspace::Reserve(int maxDimension, int maxDofs) {
+  g.resize(maxDimension);
+  f.resize(maxDimension);
+  r.resize(maxDofs);
+  jacobian.resize(maxDimension, maxDofs);
+  hessian.resize(maxDofs, maxDofs);
+}
+}  // namespace internal
+
+Constraint::Constraint(Layout layout, internal::CompliantParams const& params)
+    : type_(layout.type),
+      dimension_(layout.dimension),
+      numActors_(layout.actors[1] ? 2 : 1),
+      targetKind_(layout.targetKind),
+      isRange_(layout.isRange),
+      actors_(layout.actors),
+      localDofs_(std::move(layout.localDofs)),
+      params_(params),
+      stageStartValue_(VectorX::Zero(layout.dimension)) {
+  RefreshDofs();
+  force_.assign(dofs_.size(), 0);
+}
+
+Actor* Constraint::GetActor(int i) const { return (i >= 0 && i < numActors_) ? actors_[i] : nullptr; }
+
+Span<int const> Constraint::GetDofIndicesForActor(int i) const {
+  if (i < 0 || i >= numActors_) return {};
+  std::size_t const first = (i == 0) ? 0 : localDofs_[0].size();
+  return Span<int const>(dofs_).subspan(first, localDofs_[i].size());
+}
+
+void Constraint::RefreshDofs() {
+  dofs_.clear();
+  for (int a = 0; a < numActors_; ++a)
+    for (int local : localDofs_[a]) dofs_.push_back(actors_[a]->GetDofOffset() + local);
+}
+
+bool Constraint::SetStiffness(real stiffness, Error& error) {
+  if (!internal::CheckNonNegative(stiffness, "stiffness", error)) return false;
+  params_.stiffness = stiffness;
+  return true;
+}
+
+bool Constraint::SetDamping(real damping, Error& error) {
+  if (!internal::CheckNonNegative(damping, "damping", error)) return false;
+  params_.damping = damping;
+  return true;
+}
+
+bool Constraint::SetSaturation(real saturation, Error& error) {
+  if (!internal::CheckFinite(saturation, "saturation", error)) return false;
+  params_.saturation = saturation;
+  return true;
+}
+
+bool Constraint::RequireTarget(TargetKind kind, std::string_view method, Error& error) const {
+  if (targetKind_ == kind) return true;
+  error.Set(ErrorCode::kNotSupported, std::string(method) + " does not apply to a " +
+                                          std::string(ToString(type_)) + " constraint");
+  return false;
+}
+
+bool Constraint::SetTargetPosition(Real3 const& position, Error& error) {
+  if (!RequireTarget(TargetKind::kPosition, "SetTargetPosition", error) ||
+      !internal::CheckFinite(position, "position", error))
+    return false;
+  for (int i = 0; i < 3; ++i) target_[i] = position[i];
+  return true;
+}
+
+bool Constraint::SetTargetRotation(Quat const& rotation, Error& error) {
+  if (!RequireTarget(TargetKind::kRotation, "SetTargetRotation", error) ||
+      !internal::CheckUnitQuat(rotation, "rotation", error))
+    return false;
+  Quat const q = rotation.normalized();
+  target_[0] = q.w(), target_[1] = q.x(), target_[2] = q.y(), target_[3] = q.z();
+  return true;
+}
+
+bool Constraint::SetTargetTransform(Real3 const& position, Quat const& rotation, Error& error) {
+  if (!RequireTarget(TargetKind::kTransform, "SetTargetTransform", error) ||
+      !internal::CheckFinite(position, "position", error) ||
+      !internal::CheckUnitQuat(rotation, "rotation", error))
+    return false;
+  Quat const q = rotation.normalized();
+  for (int i = 0; i < 3; ++i) target_[i] = position[i];
+  target_[3] = q.w(), target_[4] = q.x(), target_[5] = q.y(), target_[6] = q.z();
+  return true;
+}
+
+bool Constraint::SetTargetDof(real value, Error& error) {
+  if (!RequireTarget(TargetKind::kDof, "SetTargetDof", error) ||
+      !internal::CheckFinite(value, "value", error))
+    return false;
+  target_[0] = value;
+  return true;
+}
+
+bool Constraint::UpdateOldTarget(Error& error) {
+  if (targetKind_ == TargetKind::kNone) {
+    error.Set(ErrorCode::kNotSupported,
+              "UpdateOldTarget does not apply to a " + std::string(ToString(type_)) +
+                  " constraint (it has no target)");
+    return false;
+  }
+  oldTarget_ = target_;
+  return true;
+}
+
+void Constraint::InitializeTarget(Target const& target) {
+  target_ = target;
+  oldTarget_ = target;
+}
+
+Real3 Constraint::TargetPosition(Span<real const> target) { return {target[0], target[1], target[2]}; }
+
+Quat Constraint::TargetRotation(Span<real const> target, int offset) {
+  return Quat(target[offset], target[offset + 1], target[offset + 2], target[offset + 3]);
+}
+
+DynamicArray<real> Constraint::GetDeviation() const {
+  VectorX g(dimension_);
+  MatrixX jacobian(dimension_, dofs_.size());
+  DoEvaluate(target_, g, jacobian);
+  return DynamicArray<real>(g.begin(), g.end());
+}
+
+bool Constraint::IsQuerySupported(QueryType type) const { return type == QueryType::ConstraintForce; }
+
+bool Constraint::RegisterQuery(QueryType type, Error& error) {
+  if (!IsQuerySupported(type)) {
+    error.Set(ErrorCode::kNotSupported, "query " + std::string(ToString(type)) +
+                                            " is not supported by a " +
+                                            std::string(ToString(type_)) + " constraint");
+    return false;
+  }
+  forceQueryRegistered_ = true;
+  return true;
+}
+
+Span<real const> Constraint::GetForce(Error& error) const {
+  if (!forceQueryRegistered_) {
+    error.Set(ErrorCode::kInvalidState,
+              "GetForce needs RegisterQuery(QueryType::ConstraintForce) before stepping");
+    return {};
+  }
+  if (!forceValid_) {
+    error.Set(ErrorCode::kInvalidState,
+              "GetForce: no step has completed since the ConstraintForce query was registered");
+    return {};
+  }
+  return force_;
+}
+
+void Constraint::DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& upper) const {
+  lower.assign(dimension_, -std::numeric_limits<real>::infinity());
+  upper.assign(dimension_, std::numeric_limits<real>::infinity());
+}
+
+DynamicArray<real> Constraint::GetLimitMinValues(Error& error) const {
+  if (!isRange_) {
+    error.Set(ErrorCode::kNotSupported, "GetLimitMinValues does not apply to a " +
+                                            std::string(ToString(type_)) +
+                                            " constraint (not a range type)");
+    return {};
+  }
+  DynamicArray<real> lower, upper;
+  DoGetLimits(lower, upper);
+  return lower;
+}
+
+DynamicArray<real> Constraint::GetLimitMaxValues(Error& error) const {
+  if (!isRange_) {
+    error.Set(ErrorCode::kNotSupported, "GetLimitMaxValues does not apply to a " +
+                                            std::string(ToString(type_)) +
+                                            " constraint (not a range type)");
+    return {};
+  }
+  DynamicArray<real> lower, upper;
+  DoGetLimits(lower, upper);
+  return upper;
+}
+
+// ---- stage interface ----
+
+void Constraint::Evaluate(Span<real const> target, internal::ConstraintWorkspace& ws) const {
+  int const n = static_cast<int>(dofs_.size());
+  DoEvaluate(target, ws.g.head(dimension_), ws.jacobian.topLeftCorner(dimension_, n));
+}
+
+void Constraint::BeginStage(internal::ConstraintWorkspace& ws) {
+  // g(qᵢ⁰, p̂ᵢ⁰): the actors are at the stage start, the old target is p̂ᵢ⁰
+  Evaluate(oldTarget_, ws);
+  stageStartValue_ = ws.g.head(dimension_);
+}
+
+real Constraint::Energy(real h, internal::ConstraintWorkspace& ws) const {
+  Evaluate(target_, ws);
+  auto const g = ws.g.head(dimension_);
+  if (isRange_ && internal::IsRangeInactive(g, stageStartValue_)) return 0;
+  return internal::CompliantEnergy(params_, g, stageStartValue_, h);
+}
+
+void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
+                                       internal::HessianAssembler& assembler, int contributor,
+                                       internal::ConstraintWorkspace& ws) const {
+  Evaluate(target_, ws);
+  int const m = dimension_, n = static_cast<int>(dofs_.size());
+  auto const g = ws.g.head(m);
+  if (isRange_ && internal::IsRangeInactive(g, stageStartValue_)) return;
+  auto const jacobian = ws.jacobian.topLeftCorner(m, n);
+  real const scale =
+      internal::CompliantForceCoefficients(params_, g, stageStartValue_, h, ws.f.head(m));
+  ws.r.head(n).noalias() = jacobian.transpose() * ws.f.head(m);
+  for (int i = 0; i < n; ++i) gradient[dofs_[i]] += ws.r[i];
+  auto hessian = ws.hessian.topLeftCorner(n, n);
+  hessian.noalias() = scale * jacobian.transpose() * jacobian;
+  assembler.AddBlock(contributor, hessian);
+}
+
+void Constraint::EndStage(real h, internal::ConstraintWorkspace& ws) {
+  if (forceQueryRegistered_) {
+    int const m = dimension_, n = static_cast<int>(dofs_.size());
+    Evaluate(target_, ws);
+    auto const g = ws.g.head(m);
+    if (isRange_ && internal::IsRangeInactive(g, stageStartValue_)) {
+      std::fill(force_.begin(), force_.end(), 0);
+    } else {
+      internal::CompliantForceCoefficients(params_, g, stageStartValue_, h, ws.f.head(m));
+      ws.r.head(n).noalias() = ws.jacobian.topLeftCorner(m, n).transpose() * ws.f.head(m);
+      for (int i = 0; i < n; ++i) force_[i] = -ws.r[i];
+    }
+    forceValid_ = true;
+  }
+  oldTarget_ = target_;
+}
+
+}  // namespace superdex

@@ -1,0 +1,29 @@
+#include <superdex/constraints/rigid_pivot_position.h>
+
+#include <superdex/actors/rigid_actor.h>
+#include <superdex/core/so3.h>
+
+namespace superdex {
+
+RigidPivotPositionConstraint::RigidPivotPositionConstraint(
+    RigidActor* actor, RigidPivotPositionConstraintParams const& params)
+    : Constraint(Layout{.type = ConstraintType::RigidPivotPosition,
+                        .dimension = 3,
+                        .targetKind = TargetKind::kPosition,
+                        .actors = {actor, nullptr},
+                        .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5}, DynamicArray<int>{}}},
+                 {params.stiffness, params.damping, params.saturation}),
+      body_(actor),
+      localPos_(params.localPos) {
+  InitializeTarget({params.position.x(), params.position.y(), params.position.z()});
+}
+
+void RigidPivotPositionConstraint::DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
+                                              Eigen::Ref<MatrixX> jacobian) const {
+  Real3 const arm = body_->GetRotation() * localPos_;
+  g = body_->GetPosition() + arm - TargetPosition(target);
+  jacobian.block<3, 3>(0, 0).setIdentity();
+  jacobian.block<3, 3>(0, 3) = -Hat(arm);
+}
+
+}  // namespace superdex

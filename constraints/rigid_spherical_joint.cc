@@ -1,0 +1,32 @@
+#include <superdex/constraints/rigid_spherical_joint.h>
+
+#include <superdex/actors/rigid_actor.h>
+#include <superdex/core/so3.h>
+
+namespace superdex {
+
+RigidSphericalJointConstraint::RigidSphericalJointConstraint(
+    RigidActor* actorA, RigidActor* actorB, RigidSphericalJointConstraintParams const& params)
+    : Constraint(Layout{.type = ConstraintType::RigidSphericalJoint,
+                        .dimension = 3,
+                        .actors = {actorA, actorB},
+                        .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5},
+                                      DynamicArray<int>{0, 1, 2, 3, 4, 5}}},
+                 {params.stiffness, params.damping, params.saturation}),
+      bodyA_(actorA),
+      bodyB_(actorB),
+      localPosA_(params.localPosA),
+      localPosB_(params.localPosB) {}
+
+void RigidSphericalJointConstraint::DoEvaluate(Span<real const>, Eigen::Ref<VectorX> g,
+                                               Eigen::Ref<MatrixX> jacobian) const {
+  Real3 const armA = bodyA_->GetRotation() * localPosA_;
+  Real3 const armB = bodyB_->GetRotation() * localPosB_;
+  g = (bodyA_->GetPosition() + armA) - (bodyB_->GetPosition() + armB);
+  jacobian.block<3, 3>(0, 0).setIdentity();
+  jacobian.block<3, 3>(0, 3) = -Hat(armA);
+  jacobian.block<3, 3>(0, 6) = -Real33::Identity();
+  jacobian.block<3, 3>(0, 9) = Hat(armB);
+}
+
+}  // namespace superdex

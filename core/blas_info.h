@@ -1,0 +1,48 @@
+// Which BLAS this process really runs, and whether its kernels suit the CPU.
+//
+// SuperDex does not link a BLAS itself: CHOLMOD loads libblas.so.3, i.e.
+// whatever Debian's `libblas.so.3-<multiarch>` alternative points to
+// (scripts/setup.sh selects OpenBLAS). GetBlasInfo therefore asks the loaded
+// library at run time (dlsym on `openblas_get_config`, ...) rather than
+// reporting what was found at build time.
+//
+// OpenBLAS 0.3.21 (Debian bookworm) may not recognise a recent CPU and then
+// runs older kernels: on an AVX-512 machine DGEMM ran at ~22 GFLOP/s per core
+// with the SSE3 "Prescott" fallback, ~58 with "Haswell" (AVX2) and ~95 with
+// "SkylakeX" (AVX-512). Setting OPENBLAS_CORETYPE before the process starts
+// fixes it; `source scripts/env.sh` does that. See docs/blas.md.
+#pragma once
+
+#include <string>
+
+namespace superdex {
+
+struct BlasInfo {
+  /// "OpenBLAS", "Intel MKL", "BLIS", or
+  /// "reference BLAS or unknown (no openblas_get_config symbol)".
+  std::string library;
+  /// The library's own configuration string, e.g. "OpenBLAS 0.3.21
+  /// NO_LAPACKE DYNAMIC_ARCH NO_AFFINITY SkylakeX MAX_THREADS=64"; empty when
+  /// the library has none.
+  std::string config;
+  /// The kernel set in use ("SkylakeX", "Haswell", "Prescott", ...); empty
+  /// when the library does not report one.
+  std::string coreName;
+  /// Threads the BLAS will use (openblas_get_num_threads); 1 when unknown.
+  int numThreads = 1;
+  /// The CPU has AVX-512 F, BW, DQ, VL and CD (what OpenBLAS's SkylakeX
+  /// kernels need).
+  bool cpuHasAvx512 = false;
+  /// False when the kernels in use are of an older instruction-set tier than
+  /// the CPU supports (e.g. Prescott or Haswell on an AVX-512 CPU), or when no
+  /// optimised BLAS was identified.
+  bool fastKernels = false;
+  /// What to do when fastKernels is false; empty otherwise.
+  std::string advice;
+};
+
+/// Inspects the BLAS loaded into this process. Never fails; fields it cannot
+/// determine are left empty (see each field).
+BlasInfo GetBlasInfo();
+
+}  // namespace superdex

@@ -1,0 +1,29 @@
+#include <superdex/scene/integrator.h>
+
+namespace superdex {
+
+std::string_view ToString(IntegratorType type) {
+  switch (type) {
+    case IntegratorType::kBackwardEuler: return "BackwardEuler";
+    case IntegratorType::kBdf2: return "BDF2";
+  }
+  return "Unknown";
+}
+
+namespace internal {
+
+StageCoefficients MakeStage(IntegratorType type, real dt, bool hasHistory) {
+  StageCoefficients s;
+  s.duration = dt;
+  if (type == IntegratorType::kBdf2 && hasHistory) {
+    s.beta = 2.0 / 3.0;
+    s.cPrevious = -1.0 / 3.0;
+    s.aVelocity = 4.0 / 3.0;
+    s.bVelocity = -1.0 / 3.0;
+    s.usesHistory = true;
+  }
+  return s;
+}
+
+}  // namespace internal
+}  // namespace superdex

@@ -1,0 +1,266 @@
+#include <superdex/scene/scene.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include <superdex/core/validate.h>
+#include <superdex/scene/stage_solver.h>
+
+namespace superdex {
+
+namespace {
+std::string HandleText(ActorHandle h) {
+  return "{index " + std::to_string(h.index) + ", generation " + std::to_string(h.generation) + "}";
+}
+}  // namespace
+
+Scene::Scene(SceneParams const& params)
+    : params_(params), solver_(std::make_unique<internal::StageSolver>()) {}
+
+Scene::~Scene() = default;
+
+std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
+  using namespace internal;
+  if (!CheckFinite(params.gravity, "SceneParams.gravity", error)) return nullptr;
+  if (params.newton.maxIterations <= 0) {
+    error.Set(ErrorCode::kInvalidArgument, "SceneParams.newton.maxIterations must be > 0, got " +
+                                               std::to_string(params.newton.maxIterations));
+    return nullptr;
+  }
+  if (!CheckPositive(params.newton.velocityTolerance, "SceneParams.newton.velocityTolerance", error))
+    return nullptr;
+  if (params.newton.maxLineSearchSteps <= 0) {
+    error.Set(ErrorCode::kInvalidArgument, "SceneParams.newton.maxLineSearchSteps must be > 0, got " +
+                                               std::to_string(params.newton.maxLineSearchSteps));
+    return nullptr;
+  }
+  std::unique_ptr<Scene> scene(new Scene(params));
+  if (!scene->solver_->SetLinearSolver(params.linearSolver, error)) return nullptr;
+  return scene;
+}
+
+int Scene::GetNumDofs() const {
+  int n = 0;
+  for (Actor* actor : actorOrder_) n += actor->GetNumDofs();
+  return n;
+}
+
+// ---- topology ----
+
+void Scene::OnTopologyChanged() {
+  int offset = 0;
+  for (Actor* actor : actorOrder_) {
+    actor->dofOffset_ = offset;
+    offset += actor->GetNumDofs();
+  }
+  for (Constraint* constraint : constraintOrder_) constraint->RefreshDofs();
+  topologyChanged_ = true;
+}
+
+ActorHandle Scene::AddActor(std::unique_ptr<Actor> actor) {
+  Actor* raw = actor.get();
+  raw->handle_ = actors_.Insert(std::move(actor));
+  actorOrder_.push_back(raw);
+  OnTopologyChanged();
+  return raw->handle_;
+}
+
+RigidActor* Scene::CreateRigidActor(RigidActorParams const& params, Error& error) {
+  std::unique_ptr<RigidActor> actor = RigidActor::Create(params, error);
+  if (!actor) return nullptr;
+  RigidActor* raw = actor.get();
+  AddActor(std::move(actor));
+  return raw;
+}
+
+Actor* Scene::GetActor(ActorHandle handle) const { return actors_.Get(handle); }
+
+void Scene::ForEachActor(std::function<void(Actor&)> const& fn) const {
+  for (Actor* actor : actorOrder_) fn(*actor);
+}
+
+bool Scene::DestroyActor(ActorHandle handle, Error& error) {
+  Actor* actor = actors_.Get(handle);
+  if (!actor) {
+    error.Set(ErrorCode::kInvalidHandle, "DestroyActor: actor handle " + HandleText(handle) +
+                                             " is null or stale");
+    return false;
+  }
+  // every constraint that references the actor goes with it
+  DynamicArray<ConstraintHandle> doomed;
+  for (Constraint* c : constraintOrder_)
+    for (int i = 0; i < c->GetNumActors(); ++i)
+      if (c->GetActor(i) == actor) doomed.push_back(c->GetHandle());
+  for (ConstraintHandle c : doomed) {
+    Constraint* raw = constraints_.Get(c);
+    constraintOrder_.erase(std::find(constraintOrder_.begin(), constraintOrder_.end(), raw));
+    constraints_.Remove(c);
+  }
+  actorOrder_.erase(std::find(actorOrder_.begin(), actorOrder_.end(), actor));
+  actors_.Remove(handle);
+  OnTopologyChanged();
+  return true;
+}
+
+// ---- constraints ----
+
+RigidActor* Scene::GetRigidActor(ActorHandle handle, std::string_view field, Error& error) const {
+  Actor* actor = actors_.Get(handle);
+  if (!actor) {
+    error.Set(ErrorCode::kInvalidHandle,
+              std::string(field) + ": actor handle " + HandleText(handle) + " is null or stale");
+    return nullptr;
+  }
+  if (actor->GetType() != ActorType::kRigid) {
+    error.Set(ErrorCode::kInvalidHandle, std::string(field) + ": actor " + HandleText(handle) +
+                                             " is a " + std::string(ToString(actor->GetType())) +
+                                             " actor, expected a rigid actor");
+    return nullptr;
+  }
+  return static_cast<RigidActor*>(actor);
+}
+
+namespace {
+bool CheckCompliantParams(real stiffness, real damping, real saturation, std::string_view type,
+                          Error& error) {
+  std::string const prefix = std::string(type) + "ConstraintParams.";
+  return internal::CheckNonNegative(stiffness, prefix + "stiffness", error) &&
+         internal::CheckNonNegative(damping, prefix + "damping", error) &&
+         internal::CheckFinite(saturation, prefix + "saturation", error);
+}
+}  // namespace
+
+Constraint* Scene::AddConstraint(std::unique_ptr<Constraint> constraint) {
+  Constraint* raw = constraint.get();
+  raw->handle_ = constraints_.Insert(std::move(constraint));
+  constraintOrder_.push_back(raw);
+  OnTopologyChanged();
+  return raw;
+}
+
+Constraint* Scene::CreateRigidSphericalJointConstraint(RigidSphericalJointConstraintParams const& p,
+                                                       Error& error) {
+  constexpr std::string_view kType = "RigidSphericalJoint";
+  RigidActor* a = GetRigidActor(p.actorA, "RigidSphericalJointConstraintParams.actorA", error);
+  if (!a) return nullptr;
+  RigidActor* b = GetRigidActor(p.actorB, "RigidSphericalJointConstraintParams.actorB", error);
+  if (!b) return nullptr;
+  if (a == b) {
+    error.Set(ErrorCode::kInvalidArgument,
+              "RigidSphericalJointConstraintParams.actorB must differ from actorA, both are " +
+                  HandleText(p.actorA));
+    return nullptr;
+  }
+  if (!internal::CheckFinite(p.localPosA, "RigidSphericalJointConstraintParams.localPosA", error) ||
+      !internal::CheckFinite(p.localPosB, "RigidSphericalJointConstraintParams.localPosB", error) ||
+      !CheckCompliantParams(p.stiffness, p.damping, p.saturation, kType, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<RigidSphericalJointConstraint>(a, b, p));
+}
+
+Constraint* Scene::CreateRigidPivotPositionConstraint(RigidPivotPositionConstraintParams const& p,
+                                                      Error& error) {
+  constexpr std::string_view kType = "RigidPivotPosition";
+  RigidActor* a = GetRigidActor(p.actor, "RigidPivotPositionConstraintParams.actor", error);
+  if (!a) return nullptr;
+  if (!internal::CheckFinite(p.localPos, "RigidPivotPositionConstraintParams.localPos", error) ||
+      !internal::CheckFinite(p.position, "RigidPivotPositionConstraintParams.position", error) ||
+      !CheckCompliantParams(p.stiffness, p.damping, p.saturation, kType, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<RigidPivotPositionConstraint>(a, p));
+}
+
+Constraint* Scene::GetConstraint(ConstraintHandle handle) const { return constraints_.Get(handle); }
+
+void Scene::ForEachConstraint(std::function<void(Constraint&)> const& fn) const {
+  for (Constraint* c : constraintOrder_) fn(*c);
+}
+
+bool Scene::DestroyConstraint(ConstraintHandle handle, Error& error) {
+  Constraint* c = constraints_.Get(handle);
+  if (!c) {
+    error.Set(ErrorCode::kInvalidHandle, "DestroyConstraint: constraint handle {index " +
+                                             std::to_string(handle.index) + ", generation " +
+                                             std::to_string(handle.generation) +
+                                             "} is null or stale");
+    return false;
+  }
+  constraintOrder_.erase(std::find(constraintOrder_.begin(), constraintOrder_.end(), c));
+  constraints_.Remove(handle);
+  OnTopologyChanged();
+  return true;
+}
+
+bool Scene::DestroyConstraint(Constraint* constraint, Error& error) {
+  // look the pointer up among live constraints instead of dereferencing it
+  auto it = std::find(constraintOrder_.begin(), constraintOrder_.end(), constraint);
+  if (constraint == nullptr || it == constraintOrder_.end()) {
+    error.Set(ErrorCode::kInvalidHandle,
+              "DestroyConstraint: the constraint pointer is null or not a live constraint of this scene");
+    return false;
+  }
+  return DestroyConstraint((*it)->GetHandle(), error);
+}
+
+// ---- stepping ----
+
+bool Scene::SetLinearSolver(LinearSolverType type, Error& error) {
+  if (!solver_->SetLinearSolver(type, error)) return false;
+  params_.linearSolver = type;
+  return true;
+}
+
+bool Scene::Step(real dt, Error& error) {
+  if (!internal::CheckPositive(dt, "dt", error)) return false;
+  auto const start = std::chrono::steady_clock::now();
+
+  // reset the per-step figures
+  stats_.newtonIterations = 0;
+  stats_.linearIterations = 0;
+  stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
+  stats_.solveSeconds = stats_.lineSearchSeconds = 0;
+
+  if (topologyChanged_) {
+    auto const analysisStart = std::chrono::steady_clock::now();
+    if (!solver_->Analyze(actorOrder_, constraintOrder_, params_.ordering, stats_, error))
+      return false;
+    topologyChanged_ = false;
+    stats_.analysisSeconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - analysisStart).count();
+  }
+
+  // snapshot for a transactional step
+  actorSnapshots_.resize(actorOrder_.size());
+  for (std::size_t i = 0; i < actorOrder_.size(); ++i) actorOrder_[i]->SaveSnapshot(actorSnapshots_[i]);
+  constraintSnapshots_.resize(constraintOrder_.size());
+  for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
+    constraintSnapshots_[i] = constraintOrder_[i]->oldTarget_;
+
+  bool const hasHistory = stats_.steps > 0;
+  internal::StageCoefficients const stage = internal::MakeStage(params_.integrator, dt, hasHistory);
+  Error stageError;
+  bool ok = solver_->Solve(0, stage, actorOrder_, constraintOrder_, params_.gravity, params_.newton,
+                           stats_, stageError);
+  if (!ok) {
+    for (std::size_t i = 0; i < actorOrder_.size(); ++i)
+      actorOrder_[i]->RestoreSnapshot(*actorSnapshots_[i]);
+    for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
+      constraintOrder_[i]->oldTarget_ = constraintSnapshots_[i];
+    error.Set(stageError.GetCode(), "Step(dt = " + internal::Format(dt) + ") at t = " +
+                                        internal::Format(time_) + " failed in " +
+                                        stageError.GetMessage() + "; the scene is unchanged");
+    return false;
+  }
+  time_ += dt;
+  ++stats_.steps;
+  stats_.stepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return true;
+}
+
+namespace internal {
+void SetFaultInjectionForTesting(Scene& scene, FaultInjection const& fault) {
+  scene.solver_->SetFaultInjection(fault);
+}
+}  // namespace internal
+
+}  // namespace superdex

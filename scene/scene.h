@@ -1,0 +1,101 @@
+// Scene: owns actors and constraints and steps them (design.md §5, §10).
+//
+//   Scene::Step → integrator builds the stage → StageSolver (Newton):
+//   assembly fills values into the cached pattern → linear solver →
+//   line search → commit.
+//
+// A step is transactional: if any stage fails, every actor (and constraint
+// state) is restored exactly to its pre-step state and Step returns false
+// with an Error naming the stage, the Newton iteration and the cause.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include <superdex/actors/rigid_actor.h>
+#include <superdex/constraints/constraint.h>
+#include <superdex/constraints/rigid_pivot_position.h>
+#include <superdex/constraints/rigid_spherical_joint.h>
+#include <superdex/core/error.h>
+#include <superdex/core/slot_map.h>
+#include <superdex/scene/scene_params.h>
+
+namespace superdex {
+
+class Scene;
+namespace internal {
+class StageSolver;
+struct FaultInjection;
+struct ActorSnapshot;
+/// Test hook: injects a linear-solver failure (see FaultInjection).
+void SetFaultInjectionForTesting(Scene& scene, FaultInjection const& fault);
+}  // namespace internal
+
+class Scene {
+ public:
+  /// Validates `params` (finite gravity, positive Newton settings, a
+  /// compiled-in linear solver); nullptr and `error` on bad input.
+  static std::unique_ptr<Scene> Create(SceneParams const& params, Error& error);
+  ~Scene();
+  Scene(Scene const&) = delete;
+  Scene& operator=(Scene const&) = delete;
+
+  // ---- actors ----
+  RigidActor* CreateRigidActor(RigidActorParams const& params, Error& error);
+  /// The actor, or nullptr for a null or stale handle.
+  Actor* GetActor(ActorHandle handle) const;
+  /// Destroys the actor and every constraint that references it.
+  bool DestroyActor(ActorHandle handle, Error& error);
+  void ForEachActor(std::function<void(Actor&)> const& fn) const;
+  int GetNumActors() const { return static_cast<int>(actorOrder_.size()); }
+
+  // ---- constraints ----
+  Constraint* CreateRigidSphericalJointConstraint(RigidSphericalJointConstraintParams const& params,
+                                                  Error& error);
+  Constraint* CreateRigidPivotPositionConstraint(RigidPivotPositionConstraintParams const& params,
+                                                 Error& error);
+  /// The constraint, or nullptr for a null or stale handle.
+  Constraint* GetConstraint(ConstraintHandle handle) const;
+  void ForEachConstraint(std::function<void(Constraint&)> const& fn) const;
+  bool DestroyConstraint(Constraint* constraint, Error& error);
+  bool DestroyConstraint(ConstraintHandle handle, Error& error);
+  int GetNumConstraints() const { return static_cast<int>(constraintOrder_.size()); }
+
+  // ---- stepping ----
+  /// Advances by dt (finite, > 0). Transactional: on failure nothing changes.
+  bool Step(real dt, Error& error);
+  /// Switches the linear solver; the new backend analyzes the cached pattern
+  /// at the next step.
+  bool SetLinearSolver(LinearSolverType type, Error& error);
+
+  real GetTime() const { return time_; }
+  SceneParams const& GetParams() const { return params_; }
+  SceneStats const& GetStats() const { return stats_; }
+  /// Total DoFs of all actors.
+  int GetNumDofs() const;
+
+ private:
+  explicit Scene(SceneParams const& params);
+  friend void internal::SetFaultInjectionForTesting(Scene&, internal::FaultInjection const&);
+
+  ActorHandle AddActor(std::unique_ptr<Actor> actor);
+  Constraint* AddConstraint(std::unique_ptr<Constraint> constraint);
+  /// A live rigid actor for `handle`, or nullptr with `error` naming `field`.
+  RigidActor* GetRigidActor(ActorHandle handle, std::string_view field, Error& error) const;
+  void OnTopologyChanged();
+
+  SceneParams params_;
+  internal::SlotMap<Actor, ActorTag> actors_;
+  internal::SlotMap<Constraint, ConstraintTag> constraints_;
+  DynamicArray<Actor*> actorOrder_;            ///< creation order = DoF order
+  DynamicArray<Constraint*> constraintOrder_;  ///< creation order = contributor order
+  bool topologyChanged_ = true;
+  std::unique_ptr<internal::StageSolver> solver_;
+  SceneStats stats_;
+  real time_ = 0;
+  // pre-step copies for transactional steps (reused across steps)
+  DynamicArray<std::unique_ptr<internal::ActorSnapshot>> actorSnapshots_;
+  DynamicArray<Constraint::Target> constraintSnapshots_;
+};
+
+}  // namespace superdex

@@ -1,0 +1,223 @@
+#include <superdex/scene/stage_solver.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <superdex/actors/actor.h>
+
+namespace superdex::internal {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+std::string Where(int stageIndex, int iteration) {
+  return "stage " + std::to_string(stageIndex) + ", Newton iteration " + std::to_string(iteration);
+}
+}  // namespace
+
+bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
+                          DynamicArray<Constraint*> const& constraints, OrderingMethod ordering,
+                          SceneStats& stats, Error& error) {
+  // count, then fill: DoF blocks and contributor DoF lists in a fixed order
+  int numDofs = 0;
+  DynamicArray<int> blockSizes;
+  DynamicArray<DynamicArray<int>> contributorDofs;
+  DynamicArray<int> firstContributor;
+  for (Actor* actor : actors) {
+    numDofs += actor->GetNumDofs();
+    actor->AppendDofBlockSizes(blockSizes);
+    firstContributor.push_back(static_cast<int>(contributorDofs.size()));
+    actor->AppendContributorDofs(contributorDofs);
+  }
+  int maxDimension = 1, maxDofs = 1;
+  for (Constraint* constraint : constraints) {
+    firstContributor.push_back(static_cast<int>(contributorDofs.size()));
+    contributorDofs.emplace_back(constraint->dofs_);
+    maxDimension = std::max(maxDimension, constraint->GetDimension());
+    maxDofs = std::max(maxDofs, constraint->GetNumDofs());
+  }
+  if (!assembler_.Analyze(numDofs, blockSizes, contributorDofs, ordering, error)) return false;
+  firstContributor_ = std::move(firstContributor);
+  constraintWorkspace_.Reserve(maxDimension, maxDofs);
+  gradient_.setZero(numDofs);
+  delta_.setZero(numDofs);
+  orderedRhs_.setZero(numDofs);
+  orderedSolution_.setZero(numDofs);
+  stats.patternBuilds = assembler_.GetNumPatternBuilds();
+  stats.numDofs = numDofs;
+  stats.hessianNonzeros = assembler_.GetMatrix().NumNonzeros();
+  return true;
+}
+
+bool StageSolver::SetLinearSolver(LinearSolverType type, Error& error) {
+  if (type != LinearSolverType::kAuto) {
+    auto available = AvailableLinearSolvers();
+    if (std::find(available.begin(), available.end(), type) == available.end()) {
+      error.Set(ErrorCode::kInvalidArgument,
+                "linearSolver " + std::string(ToString(type)) + " is not compiled into this build");
+      return false;
+    }
+  }
+  requestedSolver_ = type;
+  return true;
+}
+
+bool StageSolver::EnsureSolverReady(SceneStats& stats, Error& error) {
+  SparseSymmetricMatrix const& matrix = assembler_.GetMatrix();
+  LinearSolverType const type = ResolveLinearSolverType(requestedSolver_, matrix.size);
+  if (!solver_ || solver_->GetType() != type) {
+    solver_ = CreateLinearSolver(type, error);
+    if (!solver_) return false;
+  }
+  if (!solver_->IsAnalyzed() || solver_->GetAnalyzedPatternVersion() != matrix.patternVersion) {
+    auto const start = Clock::now();
+    LinearSolveResult result = solver_->Analyze(matrix);
+    stats.analysisSeconds += SecondsSince(start);
+    if (!result.Ok()) {
+      error.Set(ErrorCode::kLinearSolverFailed, solver_->GetDescription() +
+                                                    " symbolic analysis failed: " + result.reason);
+      return false;
+    }
+    ++stats.symbolicAnalyses;
+  }
+  stats.factorNonzeros = solver_->GetFactorNonzeros();
+  stats.factorFlops = solver_->GetFactorFlops();
+  return true;
+}
+
+real StageSolver::TotalEnergy(DynamicArray<Actor*> const& actors,
+                              DynamicArray<Constraint*> const& constraints, real h) {
+  real energy = 0;
+  for (Actor* actor : actors) energy += actor->Energy();
+  for (Constraint* constraint : constraints) energy += constraint->Energy(h, constraintWorkspace_);
+  return energy;
+}
+
+bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
+                        DynamicArray<Actor*> const& actors,
+                        DynamicArray<Constraint*> const& constraints, Real3 const& gravity,
+                        NewtonParams const& newton, SceneStats& stats, Error& error) {
+  real const h = stage.duration;
+  if (!EnsureSolverReady(stats, error)) return false;
+  stats.linearSolver = solver_->GetDescription();
+
+  for (Actor* actor : actors) actor->BeginStage(stage, gravity);
+  for (Constraint* constraint : constraints) constraint->BeginStage(constraintWorkspace_);
+
+  real energy = TotalEnergy(actors, constraints, h);
+  if (!std::isfinite(energy)) {
+    error.Set(ErrorCode::kNonFiniteState,
+              Where(stageIndex, 0) + ": the incremental potential is not finite at the stage start");
+    return false;
+  }
+
+  Span<real> gradient(gradient_.data(), gradient_.size());
+  int const numConstraintsStart = static_cast<int>(actors.size());
+  for (int iteration = 1; iteration <= newton.maxIterations; ++iteration) {
+    ++stats.newtonIterations;
+
+    // assemble gradient and PSD Hessian into the cached pattern
+    auto start = Clock::now();
+    gradient_.setZero();
+    assembler_.ZeroValues();
+    for (std::size_t a = 0; a < actors.size(); ++a)
+      actors[a]->AddGradientAndHessian(gradient, assembler_, firstContributor_[a]);
+    for (std::size_t c = 0; c < constraints.size(); ++c)
+      constraints[c]->AddGradientAndHessian(h, gradient, assembler_,
+                                            firstContributor_[numConstraintsStart + c],
+                                            constraintWorkspace_);
+    stats.assemblySeconds += SecondsSince(start);
+    stats.gradientNorm = gradient_.lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(stats.gradientNorm)) {
+      error.Set(ErrorCode::kNonFiniteState, Where(stageIndex, iteration) + ": the gradient is not finite");
+      return false;
+    }
+
+    // solve H δ = −∇E in the fill-reducing order
+    start = Clock::now();
+    LinearSolveResult result = solver_->Factorize(assembler_.GetMatrix());
+    stats.factorizationSeconds += SecondsSince(start);
+    if (result.Ok()) {
+      start = Clock::now();
+      assembler_.PermuteToOrdered(gradient, Span<real>(orderedRhs_.data(), orderedRhs_.size()));
+      orderedRhs_ = -orderedRhs_;
+      result = solver_->Solve(Span<real const>(orderedRhs_.data(), orderedRhs_.size()),
+                              Span<real>(orderedSolution_.data(), orderedSolution_.size()));
+      assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), orderedSolution_.size()),
+                                  Span<real>(delta_.data(), delta_.size()));
+      stats.solveSeconds += SecondsSince(start);
+      stats.linearIterations += result.iterations;
+    }
+    if (fault_.failLinearSolveAtIteration == iteration && result.Ok()) {
+      result.status = LinearSolveStatus::kBackendError;
+      result.reason = "failure injected by a test";
+    }
+    if (!result.Ok()) {
+      std::string detail = result.reason;
+      if (result.status == LinearSolveStatus::kNotPositiveDefinite)
+        detail = "matrix not positive definite at column " + std::to_string(result.failingColumn);
+      error.Set(ErrorCode::kLinearSolverFailed, Where(stageIndex, iteration) + ": linear solver " +
+                                                    solver_->GetDescription() + " failed (" +
+                                                    std::string(ToString(result.status)) + "): " + detail);
+      return false;
+    }
+
+    // velocity-scaled step norm
+    real const stepNorm = delta_.lpNorm<Eigen::Infinity>() / h;
+    if (!std::isfinite(stepNorm)) {
+      error.Set(ErrorCode::kNonFiniteState, Where(stageIndex, iteration) + ": the Newton step is not finite");
+      return false;
+    }
+
+    // backtracking line search on Eᵢ (Armijo, c = 1e-4), with a round-off
+    // allowance so that a converged iterate is not rejected for noise
+    start = Clock::now();
+    real const slope = gradient_.dot(delta_);
+    for (Actor* actor : actors) actor->SaveIterate();
+    real alpha = 1;
+    bool accepted = false;
+    real trialEnergy = energy;
+    for (int k = 0; k <= newton.maxLineSearchSteps; ++k, alpha *= 0.5) {
+      for (Actor* actor : actors)
+        actor->ApplyIncrementFromSaved(Span<real const>(delta_.data(), delta_.size()), alpha);
+      trialEnergy = TotalEnergy(actors, constraints, h);
+      real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(trialEnergy));
+      if (std::isfinite(trialEnergy) && trialEnergy <= energy + 1e-4 * alpha * slope + allowance) {
+        accepted = true;
+        break;
+      }
+    }
+    stats.lineSearchSeconds += SecondsSince(start);
+    if (!accepted) {
+      for (Actor* actor : actors) actor->RestoreIterate();
+      error.Set(ErrorCode::kNewtonFailed,
+                Where(stageIndex, iteration) + ": line search found no decrease of the incremental potential after " +
+                    std::to_string(newton.maxLineSearchSteps) + " halvings (step norm " +
+                    std::to_string(stepNorm) + ", gradient norm " + std::to_string(stats.gradientNorm) + ")");
+      return false;
+    }
+    energy = trialEnergy;
+    bool finite = true;
+    for (Actor* actor : actors) finite = finite && actor->IsStateFinite();
+    if (!finite) {
+      error.Set(ErrorCode::kNonFiniteState, Where(stageIndex, iteration) + ": the configuration is not finite");
+      return false;
+    }
+
+    if (alpha == 1 && stepNorm <= newton.velocityTolerance) {
+      for (Actor* actor : actors) actor->EndStage();
+      for (Constraint* constraint : constraints) constraint->EndStage(h, constraintWorkspace_);
+      return true;
+    }
+  }
+  error.Set(ErrorCode::kNewtonFailed,
+            Where(stageIndex, newton.maxIterations) + ": Newton did not converge within " +
+                std::to_string(newton.maxIterations) + " iterations (gradient norm " +
+                std::to_string(stats.gradientNorm) + ", tolerance " +
+                std::to_string(newton.velocityTolerance) + " on the velocity-scaled step)");
+  return false;
+}
+
+}  // namespace superdex::internal

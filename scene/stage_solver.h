@@ -1,0 +1,67 @@
+// Internal: Newton's method on one stage's incremental potential
+//
+//   Eᵢ(q) = ½ w ‖q ⊖ q̂ᵢ‖²_M + U(q) + Σ Φᶜᵢ(q)
+//
+// assembled into the cached pattern, solved by the scene's linear solver,
+// with a backtracking (Armijo) line search on Eᵢ and a velocity-scaled
+// step-norm convergence test. Owns every per-iteration buffer: after
+// Analyze, a Newton iteration allocates nothing.
+#pragma once
+
+#include <chrono>
+#include <memory>
+
+#include <superdex/assembly/hessian_assembler.h>
+#include <superdex/constraints/constraint.h>
+#include <superdex/core/error.h>
+#include <superdex/linsolve/linear_solver.h>
+#include <superdex/scene/scene_params.h>
+
+namespace superdex {
+class Actor;
+}
+
+namespace superdex::internal {
+
+/// Test hook: make the linear solve of a given Newton iteration fail.
+struct FaultInjection {
+  int failLinearSolveAtIteration = -1;  ///< 1-based; -1 disables
+};
+
+class StageSolver {
+ public:
+  /// Rebuilds pattern, ordering and slot tables for the given topology, and
+  /// sizes all workspaces. Returns false (nothing changed) on failure.
+  bool Analyze(DynamicArray<Actor*> const& actors, DynamicArray<Constraint*> const& constraints,
+               OrderingMethod ordering, SceneStats& stats, Error& error);
+
+  /// Chooses the backend (kAuto resolves by size); the new backend analyzes
+  /// the cached pattern lazily at the next solve.
+  bool SetLinearSolver(LinearSolverType type, Error& error);
+
+  /// Runs Newton on one stage. On failure `error` names the stage, the
+  /// Newton iteration and the cause; actors are left at some iterate (the
+  /// caller restores its snapshot).
+  bool Solve(int stageIndex, StageCoefficients const& stage, DynamicArray<Actor*> const& actors,
+             DynamicArray<Constraint*> const& constraints, Real3 const& gravity,
+             NewtonParams const& newton, SceneStats& stats, Error& error);
+
+  void SetFaultInjection(FaultInjection const& fault) { fault_ = fault; }
+  HessianAssembler const& GetAssembler() const { return assembler_; }
+  LinearSolver const* GetLinearSolver() const { return solver_.get(); }
+
+ private:
+  real TotalEnergy(DynamicArray<Actor*> const& actors, DynamicArray<Constraint*> const& constraints,
+                   real h);
+  bool EnsureSolverReady(SceneStats& stats, Error& error);
+
+  HessianAssembler assembler_;
+  LinearSolverType requestedSolver_ = LinearSolverType::kAuto;
+  std::unique_ptr<LinearSolver> solver_;
+  ConstraintWorkspace constraintWorkspace_;
+  DynamicArray<int> firstContributor_;  ///< per actor, then per constraint
+  VectorX gradient_, delta_, orderedRhs_, orderedSolution_;
+  FaultInjection fault_;
+};
+
+}  // namespace superdex::internal

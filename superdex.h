@@ -1,0 +1,21 @@
+// SuperDex Physics — umbrella header. Include <superdex/superdex.h>.
+#pragma once
+
+#include <superdex/core/config.h>
+#include <superdex/core/error.h>
+#include <superdex/core/handle.h>
+#include <superdex/core/so3.h>
+#include <superdex/core/types.h>
+
+#include <superdex/actors/actor.h>
+#include <superdex/actors/rigid_actor.h>
+
+#include <superdex/constraints/constraint.h>
+#include <superdex/constraints/rigid_pivot_position.h>
+#include <superdex/constraints/rigid_spherical_joint.h>
+
+#include <superdex/linsolve/linear_solver.h>
+
+#include <superdex/scene/integrator.h>
+#include <superdex/scene/scene.h>
+#include <superdex/scene/scene_params.h>

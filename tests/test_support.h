@@ -1,0 +1,43 @@
+// Shared helpers of the Catch2 suites.
+#pragma once
+
+#include <catch2/catch.hpp>
+
+#include <superdex/superdex.h>
+
+namespace superdex::test {
+
+/// |a − b| <= tol · max(|a|, |b|, 1)
+inline bool Near(real a, real b, real tol) {
+  return std::abs(a - b) <= tol * std::max({std::abs(a), std::abs(b), real(1)});
+}
+
+/// A scene that must be created; fails the test with the Error otherwise.
+inline std::unique_ptr<Scene> MakeScene(SceneParams const& params = {}) {
+  Error error;
+  auto scene = Scene::Create(params, error);
+  INFO(error.ToString());
+  REQUIRE(scene);
+  return scene;
+}
+
+inline RigidActor* MakeRigid(Scene& scene, RigidActorParams const& params) {
+  Error error;
+  RigidActor* actor = scene.CreateRigidActor(params, error);
+  INFO(error.ToString());
+  REQUIRE(actor);
+  return actor;
+}
+
+inline void StepOk(Scene& scene, real dt, int steps = 1) {
+  for (int i = 0; i < steps; ++i) {
+    Error error;
+    bool ok = scene.Step(dt, error);
+    INFO(error.ToString());
+    REQUIRE(ok);
+  }
+}
+
+inline Real3 ToReal3(DynamicArray<real> const& v) { return {v.at(0), v.at(1), v.at(2)}; }
+
+}  // namespace superdex::test
