@@ -81,6 +81,7 @@ bool StageSolver::EnsureSolverReady(SceneStats& stats, Error& error) {
       return false;
     }
     ++stats.symbolicAnalyses;
+    stats.linearSolver = solver_->GetDescription();
   }
   stats.factorNonzeros = solver_->GetFactorNonzeros();
   stats.factorFlops = solver_->GetFactorFlops();
@@ -101,7 +102,6 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
                         NewtonParams const& newton, SceneStats& stats, Error& error) {
   real const h = stage.duration;
   if (!EnsureSolverReady(stats, error)) return false;
-  stats.linearSolver = solver_->GetDescription();
 
   for (Actor* actor : actors) actor->BeginStage(stage, gravity);
   for (Constraint* constraint : constraints) constraint->BeginStage(constraintWorkspace_);
