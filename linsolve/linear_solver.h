@@ -33,8 +33,10 @@ enum class LinearSolverType {
 std::string_view ToString(LinearSolverType type);
 
 /// Largest system size for which kAuto picks the dense backend. Taken from the
-/// measurement in docs/linear_solvers.md (perf/dense_vs_sparse).
-inline constexpr int kDenseSolverMaxSize = 60;
+/// measurement in docs/linear_solvers.md (perf/dense_vs_sparse): on rigid-body
+/// chains dense Factorize+Solve is not slower than CHOLMOD up to 96 unknowns
+/// (16 bodies) and slower from 102 on.
+inline constexpr int kDenseSolverMaxSize = 96;
 
 enum class LinearSolveStatus {
   kOk,
@@ -42,6 +44,7 @@ enum class LinearSolveStatus {
   kNotConverged,         ///< iterative backends: `reason`, `iterations`, `relativeResidual`
   kBackendError,         ///< the external library reported an error: `reason`
   kInvalidState,         ///< call out of order, or pattern changed since Analyze
+  kInvalidInput,         ///< malformed pattern, wrong b/x size, or a non-finite value: `reason`
 };
 
 std::string_view ToString(LinearSolveStatus status);
@@ -60,14 +63,27 @@ class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
 
-  /// Symbolic analysis of A's pattern. Required before the first Factorize
-  /// and after every change of A.patternVersion.
+  /// Symbolic analysis of A's pattern (A.values is not read). Required before
+  /// the first Factorize and after every change of A.patternVersion; discards
+  /// any previous analysis and factorization, also when it fails.
+  /// Returns kInvalidInput if the pattern breaks the layout of
+  /// sparse_symmetric_matrix.h (naming the entry), kBackendError if the
+  /// backend fails.
   LinearSolveResult Analyze(SparseSymmetricMatrix const& a);
-  /// Numeric factorization of A's current values. A must carry the analyzed
-  /// pattern version.
+  /// Numeric factorization of A's current values. SuperDex allocates nothing
+  /// here (CHOLMOD itself allocates a few temporaries per call).
+  /// Returns kInvalidState before a successful Analyze, or if A.patternVersion
+  /// (or size or nonzero count) differs from the analyzed pattern;
+  /// kInvalidInput if A.values has the wrong length or a non-finite entry;
+  /// kNotPositiveDefinite with `failingColumn` (in A's order) if A is not
+  /// positive definite. A failed Factorize leaves no usable factor.
   LinearSolveResult Factorize(SparseSymmetricMatrix const& a);
-  /// Solves A x = b with the last factorization. b and x have A.size entries
-  /// and may not alias.
+  /// Solves A x = b with the last successful factorization; any number of
+  /// times per Factorize. Does not allocate (CHOLMOD: after the first Solve
+  /// following an Analyze). Returns kInvalidState without a successful
+  /// Factorize since the last Analyze; kInvalidInput if b or x does not have
+  /// A.size entries, b and x overlap, or b is not finite; kBackendError if
+  /// the solution overflows.
   LinearSolveResult Solve(Span<real const> b, Span<real> x);
 
   bool IsAnalyzed() const { return analyzed_; }
@@ -90,6 +106,7 @@ class LinearSolver {
   bool analyzed_ = false;
   bool factorized_ = false;
   int size_ = 0;
+  std::int64_t analyzedNonzeros_ = 0;
   std::uint64_t analyzedVersion_ = 0;
 };
 
@@ -100,7 +117,8 @@ DynamicArray<LinearSolverType> AvailableLinearSolvers();
 LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size);
 
 /// A new solver of a concrete type (not kAuto). Returns nullptr and sets
-/// `error` when the type is not compiled in.
+/// `error` (kInvalidArgument for kAuto or a value outside the enum,
+/// kNotSupported when the type is not compiled in).
 std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, Error& error);
 
 }  // namespace superdex

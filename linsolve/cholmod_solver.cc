@@ -1,0 +1,290 @@
+#include <superdex/linsolve/cholmod_solver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <cholmod.h>
+
+namespace superdex::internal {
+
+struct CholmodSolver::Impl {
+  cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  // solve workspaces, allocated by cholmod_solve2 on the first Solve after an
+  // Analyze and reused until the next Analyze
+  cholmod_dense* solution = nullptr;
+  cholmod_dense* workY = nullptr;
+  cholmod_dense* workE = nullptr;
+  int size = 0;
+  double factorNonzeros = -1;
+  double factorFlops = -1;
+  double factorStoredEntries = -1;
+
+  void FreeFactorAndWorkspaces() {
+    cholmod_free_factor(&factor, &common);
+    cholmod_free_dense(&solution, &common);
+    cholmod_free_dense(&workY, &common);
+    cholmod_free_dense(&workE, &common);
+  }
+};
+
+namespace {
+
+std::string StatusName(int status) {
+  switch (status) {
+    case CHOLMOD_OK:
+      return "CHOLMOD_OK";
+    case CHOLMOD_NOT_INSTALLED:
+      return "CHOLMOD_NOT_INSTALLED (method not installed)";
+    case CHOLMOD_OUT_OF_MEMORY:
+      return "CHOLMOD_OUT_OF_MEMORY";
+    case CHOLMOD_TOO_LARGE:
+      return "CHOLMOD_TOO_LARGE (integer overflow)";
+    case CHOLMOD_INVALID:
+      return "CHOLMOD_INVALID (invalid input)";
+    case CHOLMOD_GPU_PROBLEM:
+      return "CHOLMOD_GPU_PROBLEM";
+    case CHOLMOD_NOT_POSDEF:
+      return "CHOLMOD_NOT_POSDEF";
+    case CHOLMOD_DSMALL:
+      return "CHOLMOD_DSMALL (tiny diagonal of L)";
+  }
+  return "CHOLMOD status " + std::to_string(status);
+}
+
+std::string OrderingName(int ordering) {
+  switch (ordering) {
+    case CHOLMOD_NATURAL:
+      return "natural";
+    case CHOLMOD_POSTORDERED:
+      return "natural, postordered";
+    case CHOLMOD_GIVEN:
+      return "given";
+    case CHOLMOD_AMD:
+      return "AMD";
+    case CHOLMOD_METIS:
+      return "METIS";
+    case CHOLMOD_NESDIS:
+      return "NESDIS";
+    case CHOLMOD_COLAMD:
+      return "COLAMD";
+  }
+  return "ordering " + std::to_string(ordering);
+}
+
+// A cholmod_sparse header over the caller's upper-triangle CSC arrays (no
+// copy). CHOLMOD only reads them; the const_casts are for its C interface.
+// Without values the header is pattern-only, which is all cholmod_analyze
+// reads.
+cholmod_sparse WrapUpperTriangle(SparseSymmetricMatrix const& a, bool withValues) {
+  cholmod_sparse header{};
+  header.nrow = static_cast<std::size_t>(a.size);
+  header.ncol = static_cast<std::size_t>(a.size);
+  header.nzmax = static_cast<std::size_t>(a.NumNonzeros());
+  header.p = const_cast<int*>(a.colStart.data());
+  header.i = const_cast<int*>(a.rowIndex.data());
+  header.nz = nullptr;
+  header.x = withValues ? const_cast<real*>(a.values.data()) : nullptr;
+  header.z = nullptr;
+  header.stype = 1;  // upper triangle stored
+  header.itype = CHOLMOD_INT;
+  header.xtype = withValues ? CHOLMOD_REAL : CHOLMOD_PATTERN;
+  header.dtype = CHOLMOD_DOUBLE;
+  header.sorted = 1;
+  header.packed = 1;
+  return header;
+}
+
+// The first column of L (in L's order) whose diagonal is not finite, or -1.
+// OpenBLAS's dpotrf flags only pivots <= 0, so a NaN or inf from overflow
+// would otherwise pass as success. O(n).
+int FirstNonFiniteDiagonal(cholmod_factor const& factor) {
+  auto const* x = static_cast<double const*>(factor.x);
+  if (factor.is_super) {
+    auto const* super = static_cast<int const*>(factor.super);
+    auto const* pi = static_cast<int const*>(factor.pi);
+    auto const* px = static_cast<int const*>(factor.px);
+    for (std::size_t s = 0; s < factor.nsuper; ++s) {
+      int const numCols = super[s + 1] - super[s];
+      int const numRows = pi[s + 1] - pi[s];
+      for (int j = 0; j < numCols; ++j) {
+        if (!std::isfinite(x[px[s] + j + static_cast<std::ptrdiff_t>(j) * numRows])) {
+          return super[s] + j;
+        }
+      }
+    }
+  } else {
+    // simplicial: the diagonal (of L or D) is the first entry of each column
+    auto const* p = static_cast<int const*>(factor.p);
+    for (std::size_t j = 0; j < factor.n; ++j) {
+      if (!std::isfinite(x[p[j]])) return static_cast<int>(j);
+    }
+  }
+  return -1;
+}
+
+LinearSolveResult Failure(LinearSolveStatus status, std::string reason) {
+  LinearSolveResult result;
+  result.status = status;
+  result.reason = std::move(reason);
+  return result;
+}
+
+}  // namespace
+
+CholmodSolver::CholmodSolver(CholmodOrdering ordering)
+    : ordering_(ordering), impl_(std::make_unique<Impl>()) {
+  cholmod_common& common = impl_->common;
+  cholmod_start(&common);
+  // silence CHOLMOD's own printing (e.g. its "not positive definite" warning
+  // on stdout); every outcome is returned as a typed result instead
+  common.print = 0;
+  common.supernodal = CHOLMOD_SUPERNODAL;
+  common.postorder = 1;  // a postorder of the etree helps the supernodal factorization
+  if (ordering_ == CholmodOrdering::kGiven) {
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_NATURAL;
+  } else {
+    common.nmethods = 0;  // CHOLMOD's default strategy
+  }
+}
+
+CholmodSolver::~CholmodSolver() {
+  impl_->FreeFactorAndWorkspaces();
+  cholmod_finish(&impl_->common);
+}
+
+std::string CholmodSolver::GetDescription() const {
+  int version[3] = {0, 0, 0};
+  cholmod_version(version);
+  std::string text = "CHOLMOD " + std::to_string(version[0]) + "." + std::to_string(version[1]) +
+                     "." + std::to_string(version[2]);
+  cholmod_factor const* factor = impl_->factor;
+  if (factor == nullptr) {
+    return text + (IsAnalyzed() ? " (empty system)" : " (not analyzed)");
+  }
+  text += factor->is_super ? " supernodal" : " simplicial";
+  text += factor->is_ll ? " LL'" : " LDL'";
+  text += ", ordering " + OrderingName(factor->ordering);
+  return text;
+}
+
+double CholmodSolver::GetFactorNonzeros() const {
+  return impl_->factorNonzeros;
+}
+
+double CholmodSolver::GetFactorFlops() const {
+  return impl_->factorFlops;
+}
+
+double CholmodSolver::GetFactorStoredEntries() const {
+  return impl_->factorStoredEntries;
+}
+
+DynamicArray<int> CholmodSolver::GetFactorPermutation() const {
+  cholmod_factor const* factor = impl_->factor;
+  if (factor == nullptr) return {};
+  DynamicArray<int> permutation(factor->n);
+  auto const* perm = static_cast<int const*>(factor->Perm);
+  for (std::size_t k = 0; k < factor->n; ++k) {
+    permutation[k] = perm != nullptr ? perm[k] : static_cast<int>(k);
+  }
+  return permutation;
+}
+
+LinearSolveResult CholmodSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
+  Impl& impl = *impl_;
+  impl.FreeFactorAndWorkspaces();
+  impl.size = a.size;
+  impl.factorNonzeros = -1;
+  impl.factorFlops = -1;
+  impl.factorStoredEntries = -1;
+
+  // CHOLMOD rejects a 0 x 0 matrix's empty arrays; nothing to factor
+  if (a.size == 0) {
+    impl.factorNonzeros = 0;
+    impl.factorFlops = 0;
+    impl.factorStoredEntries = 0;
+    return {};
+  }
+
+  cholmod_sparse pattern = WrapUpperTriangle(a, /*withValues=*/false);
+  impl.factor = cholmod_analyze(&pattern, &impl.common);
+  if (impl.factor == nullptr || impl.common.status < CHOLMOD_OK) {
+    int const status = impl.common.status;
+    impl.FreeFactorAndWorkspaces();
+    return Failure(LinearSolveStatus::kBackendError,
+                   "cholmod_analyze failed: " + StatusName(status));
+  }
+  impl.factorNonzeros = impl.common.lnz;
+  impl.factorFlops = impl.common.fl;
+  impl.factorStoredEntries = static_cast<double>(impl.factor->xsize);
+  return {};
+}
+
+LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
+  Impl& impl = *impl_;
+  if (a.size == 0) return {};
+
+  cholmod_sparse matrix = WrapUpperTriangle(a, /*withValues=*/true);
+  int const ok = cholmod_factorize(&matrix, impl.factor, &impl.common);
+  int const status = impl.common.status;
+  if (!ok || status < CHOLMOD_OK) {
+    return Failure(LinearSolveStatus::kBackendError,
+                   "cholmod_factorize failed: " + StatusName(status));
+  }
+
+  // cholmod_factorize returns TRUE on a matrix that is not positive
+  // definite: the failure is in Common->status, and L->minor is the first
+  // failing column of L, in L's (postordered) order
+  cholmod_factor const& factor = *impl.factor;
+  auto const* perm = static_cast<int const*>(factor.Perm);
+  auto const toCallerColumn = [perm](int k) { return perm != nullptr ? perm[k] : k; };
+  if (status == CHOLMOD_NOT_POSDEF || factor.minor < factor.n) {
+    int const k = static_cast<int>(factor.minor);
+    LinearSolveResult result = Failure(LinearSolveStatus::kNotPositiveDefinite,
+                                       "CHOLMOD: A is not positive definite: the pivot of column " +
+                                           std::to_string(toCallerColumn(k)) + " is <= 0 (column " +
+                                           std::to_string(k) + " of the permuted factor)");
+    result.failingColumn = toCallerColumn(k);
+    return result;
+  }
+  if (int const k = FirstNonFiniteDiagonal(factor); k >= 0) {
+    LinearSolveResult result =
+        Failure(LinearSolveStatus::kNotPositiveDefinite,
+                "CHOLMOD: the pivot of column " + std::to_string(toCallerColumn(k)) +
+                    " is not finite (overflow: A is numerically not positive definite)");
+    result.failingColumn = toCallerColumn(k);
+    return result;
+  }
+  return {};
+}
+
+LinearSolveResult CholmodSolver::DoSolve(Span<real const> b, Span<real> x) {
+  Impl& impl = *impl_;
+  auto const n = static_cast<std::size_t>(impl.size);
+  if (n == 0) return {};
+
+  // a dense header over the caller's b (no copy; CHOLMOD only reads it)
+  cholmod_dense rhs{};
+  rhs.nrow = n;
+  rhs.ncol = 1;
+  rhs.nzmax = n;
+  rhs.d = n;
+  rhs.x = const_cast<real*>(b.data());
+  rhs.z = nullptr;
+  rhs.xtype = CHOLMOD_REAL;
+  rhs.dtype = CHOLMOD_DOUBLE;
+
+  int const ok = cholmod_solve2(CHOLMOD_A, impl.factor, &rhs, nullptr, &impl.solution, nullptr,
+                                &impl.workY, &impl.workE, &impl.common);
+  if (!ok || impl.common.status < CHOLMOD_OK || impl.solution == nullptr) {
+    return Failure(LinearSolveStatus::kBackendError,
+                   "cholmod_solve2 failed: " + StatusName(impl.common.status));
+  }
+  std::copy_n(static_cast<double const*>(impl.solution->x), n, x.data());
+  return {};
+}
+
+}  // namespace superdex::internal

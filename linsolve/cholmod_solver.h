@@ -1,0 +1,79 @@
+// CholmodSolver: the LinearSolver backend on SuiteSparse CHOLMOD's
+// supernodal Cholesky factorization A = P' L L' P.
+//
+// Analyze runs cholmod_analyze on A's pattern (the caller's upper-triangle CSC
+// arrays, wrapped without copying). By default the ordering is CHOLMOD's
+// natural ordering, because the assembler has already applied a
+// fill-reducing (METIS) ordering; CHOLMOD may still follow it with a
+// postorder of the elimination tree, so P is a postorder and not always the
+// identity. Factorize runs cholmod_factorize on the same symbolic factor;
+// Solve runs cholmod_solve2 with workspaces kept in the solver.
+//
+// Reported as CHOLMOD reports it: nnz(L) and the factorization flop count
+// are CHOLMOD's own analysis statistics (Common->lnz, Common->fl), and
+// GetDescription names the CHOLMOD version, factor kind and ordering that ran.
+//
+// Allocation: Analyze allocates the symbolic factor; the first Solve after an
+// Analyze allocates the solve workspaces; later Solves allocate nothing.
+// cholmod_factorize itself allocates two short-lived temporaries per call
+// (the transpose of A and the supernode update matrix); this class adds none.
+//
+// CHOLMOD is linked privately: this header does not include cholmod.h.
+#pragma once
+
+#include <superdex/linsolve/linear_solver.h>
+
+#include <memory>
+#include <string>
+
+namespace superdex::internal {
+
+/// The ordering cholmod_analyze uses.
+enum class CholmodOrdering {
+  kGiven,           ///< natural: trust the caller's (already fill-reducing) column order
+  kCholmodDefault,  ///< CHOLMOD's own choice (AMD, then METIS/NESDIS if AMD is poor)
+};
+
+class CholmodSolver final : public LinearSolver {
+ public:
+  /// Starts a cholmod_common for this solver (cholmod_start).
+  explicit CholmodSolver(CholmodOrdering ordering = CholmodOrdering::kGiven);
+  /// Frees the factor and workspaces and ends the cholmod_common (cholmod_finish).
+  ~CholmodSolver() override;
+
+  CholmodSolver(CholmodSolver const&) = delete;
+  CholmodSolver& operator=(CholmodSolver const&) = delete;
+
+  LinearSolverType GetType() const override { return LinearSolverType::kCholmod; }
+  /// E.g. "CHOLMOD 3.0.14 supernodal LL', ordering natural+postorder"; before
+  /// Analyze only the version and "not analyzed".
+  std::string GetDescription() const override;
+  /// Nonzeros of L from CHOLMOD's analysis (Common->lnz), without the explicit
+  /// zeros that supernode amalgamation adds; -1 before Analyze.
+  double GetFactorNonzeros() const override;
+  /// Flops of one numeric factorization from CHOLMOD's analysis (Common->fl);
+  /// -1 before Analyze.
+  double GetFactorFlops() const override;
+
+  CholmodOrdering GetOrdering() const { return ordering_; }
+  /// Entries stored for L (L->xsize: nnz(L) plus amalgamation zeros); -1
+  /// before Analyze.
+  double GetFactorStoredEntries() const;
+  /// The permutation CHOLMOD factors in: entry k is the caller's column that
+  /// is the k-th column of L (L->Perm). Empty before Analyze. For tests and
+  /// diagnostics; allocates.
+  DynamicArray<int> GetFactorPermutation() const;
+
+ protected:
+  LinearSolveResult DoAnalyze(SparseSymmetricMatrix const& a) override;
+  LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) override;
+  LinearSolveResult DoSolve(Span<real const> b, Span<real> x) override;
+
+ private:
+  struct Impl;  // the cholmod_common, factor and workspaces (cholmod_solver.cc)
+
+  CholmodOrdering ordering_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace superdex::internal
