@@ -19,7 +19,9 @@ std::string_view ToString(ErrorCode code) {
 
 std::string Error::ToString() const {
   if (code_ == ErrorCode::kNone) return "no error";
-  return std::string(superdex::ToString(code_)) + ": " + message_;
+  std::string text(superdex::ToString(code_));
+  text.append(": ").append(message_);
+  return text;
 }
 
 }  // namespace superdex

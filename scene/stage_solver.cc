@@ -171,34 +171,45 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       return false;
     }
 
-    // backtracking line search on Eᵢ (Armijo, c = 1e-4), with a round-off
-    // allowance so that a converged iterate is not rejected for noise
+    // a step below the tolerance is taken whole: its energy change is at the
+    // round-off floor of Eᵢ, which an Armijo test cannot resolve (notably
+    // where the minimum of Eᵢ is ~0, as for a body with no forces on it).
+    // Larger steps get a backtracking line search on Eᵢ (Armijo, c = 1e-4,
+    // with a round-off allowance of 1e-12 |E|).
+    bool const converged = stepNorm <= newton.velocityTolerance;
     start = Clock::now();
-    real const slope = gradient_.dot(delta_);
     for (Actor* actor : actors) actor->SaveIterate();
-    real alpha = 1;
-    bool accepted = false;
-    real trialEnergy = energy;
-    for (int k = 0; k <= newton.maxLineSearchSteps; ++k, alpha *= 0.5) {
-      for (Actor* actor : actors)
-        actor->ApplyIncrementFromSaved(Span<real const>(delta_.data(), delta_.size()), alpha);
-      trialEnergy = TotalEnergy(actors, constraints, h);
-      real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(trialEnergy));
-      if (std::isfinite(trialEnergy) && trialEnergy <= energy + 1e-4 * alpha * slope + allowance) {
-        accepted = true;
-        break;
+    Span<real const> const delta(delta_.data(), delta_.size());
+    if (converged) {
+      for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, 1);
+    } else {
+      real const slope = gradient_.dot(delta_);
+      real alpha = 1;
+      bool accepted = false;
+      real trialEnergy = energy;
+      for (int k = 0; k <= newton.maxLineSearchSteps; ++k, alpha *= 0.5) {
+        for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, alpha);
+        trialEnergy = TotalEnergy(actors, constraints, h);
+        real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(trialEnergy));
+        if (std::isfinite(trialEnergy) && trialEnergy <= energy + 1e-4 * alpha * slope + allowance) {
+          accepted = true;
+          break;
+        }
       }
+      if (!accepted) {
+        for (Actor* actor : actors) actor->RestoreIterate();
+        stats.lineSearchSeconds += SecondsSince(start);
+        error.Set(ErrorCode::kNewtonFailed,
+                  Where(stageIndex, iteration) +
+                      ": line search found no decrease of the incremental potential after " +
+                      std::to_string(newton.maxLineSearchSteps) + " halvings (step norm " +
+                      std::to_string(stepNorm) + ", gradient norm " +
+                      std::to_string(stats.gradientNorm) + ")");
+        return false;
+      }
+      energy = trialEnergy;
     }
     stats.lineSearchSeconds += SecondsSince(start);
-    if (!accepted) {
-      for (Actor* actor : actors) actor->RestoreIterate();
-      error.Set(ErrorCode::kNewtonFailed,
-                Where(stageIndex, iteration) + ": line search found no decrease of the incremental potential after " +
-                    std::to_string(newton.maxLineSearchSteps) + " halvings (step norm " +
-                    std::to_string(stepNorm) + ", gradient norm " + std::to_string(stats.gradientNorm) + ")");
-      return false;
-    }
-    energy = trialEnergy;
     bool finite = true;
     for (Actor* actor : actors) finite = finite && actor->IsStateFinite();
     if (!finite) {
@@ -206,7 +217,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       return false;
     }
 
-    if (alpha == 1 && stepNorm <= newton.velocityTolerance) {
+    if (converged) {
       for (Actor* actor : actors) actor->EndStage();
       for (Constraint* constraint : constraints) constraint->EndStage(h, constraintWorkspace_);
       return true;

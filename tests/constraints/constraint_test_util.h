@@ -1,0 +1,142 @@
+// Shared fixtures of the constraint derivative tests: a scene of rigid bodies
+// at chosen poses, constraints made through the public Scene API, and central
+// differences over a constraint's DoFs in the tangent increments of
+// design.md §3 (t ± ε e_j; R ← Exp(±ε e_j) R).
+#pragma once
+
+#include "test_support.h"
+#include "white_box.h"
+
+#include <numbers>
+#include <random>
+#include <type_traits>
+
+namespace superdex::test {
+
+using internal::ConstraintTestAccess;
+
+struct Pose {
+  Real3 position;
+  Quat rotation;
+};
+
+/// A pose with rotation `angle` about a random axis and a random position in
+/// [−1, 1]³, both from `seed` (the axis is built with Eigen's AngleAxis, not
+/// superdex::Exp).
+inline Pose RandomPose(real angle, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<real> normal;
+  std::uniform_real_distribution<real> uniform(-1, 1);
+  Real3 axis(normal(rng), normal(rng), normal(rng));
+  axis.normalize();
+  Real3 const position(uniform(rng), uniform(rng), uniform(rng));
+  return {position, Quat(Eigen::AngleAxis<real>(angle, axis))};
+}
+
+/// A scene (gravity irrelevant, zero) with two rigid bodies of generic mass
+/// properties at the given poses.
+struct RigidPair {
+  std::unique_ptr<Scene> scene;
+  RigidActor* a = nullptr;
+  RigidActor* b = nullptr;
+};
+
+inline RigidPair MakeRigidPair(Pose const& poseA, Pose const& poseB) {
+  SceneParams params;
+  params.gravity = Real3::Zero();
+  RigidPair pair;
+  pair.scene = MakeScene(params);
+  RigidActorParams body;
+  body.mass = 1.5;
+  body.inertia = Real3(0.2, 0.3, 0.4);
+  body.position = poseA.position;
+  body.rotation = poseA.rotation;
+  pair.a = MakeRigid(*pair.scene, body);
+  body.position = poseB.position;
+  body.rotation = poseB.rotation;
+  pair.b = MakeRigid(*pair.scene, body);
+  return pair;
+}
+
+// non-zero, non-axis-aligned pivots, so that every rotation column of J is
+// non-zero
+inline Real3 const kPivotA{0.3, -0.2, 0.5};
+inline Real3 const kPivotB{-0.4, 0.1, 0.25};
+inline Real3 const kTargetPosition{1.0, 2.0, -0.5};
+
+inline Constraint* MakeSphericalJoint(RigidPair& pair, internal::CompliantParams const& compliance) {
+  RigidSphericalJointConstraintParams p;
+  p.actorA = pair.a->GetHandle();
+  p.actorB = pair.b->GetHandle();
+  p.localPosA = kPivotA;
+  p.localPosB = kPivotB;
+  p.stiffness = compliance.stiffness;
+  p.damping = compliance.damping;
+  p.saturation = compliance.saturation;
+  Error error;
+  Constraint* c = pair.scene->CreateRigidSphericalJointConstraint(p, error);
+  INFO(error.ToString());
+  REQUIRE(c);
+  return c;
+}
+
+inline Constraint* MakePivotPosition(RigidPair& pair, internal::CompliantParams const& compliance) {
+  RigidPivotPositionConstraintParams p;
+  p.actor = pair.a->GetHandle();
+  p.localPos = kPivotA;
+  p.position = kTargetPosition;
+  p.stiffness = compliance.stiffness;
+  p.damping = compliance.damping;
+  p.saturation = compliance.saturation;
+  Error error;
+  Constraint* c = pair.scene->CreateRigidPivotPositionConstraint(p, error);
+  INFO(error.ToString());
+  REQUIRE(c);
+  return c;
+}
+
+inline RigidActor& RigidOf(Constraint const& c, int actorIndex) {
+  auto* body = dynamic_cast<RigidActor*>(c.GetActor(actorIndex));
+  REQUIRE(body);
+  return *body;
+}
+
+inline VectorX Deviation(Constraint const& c) {
+  DynamicArray<real> const g = c.GetDeviation();
+  return Eigen::Map<VectorX const>(g.data(), static_cast<Eigen::Index>(g.size()));
+}
+
+/// Central differences of f() over the constraint's DoFs, columns in DoF-list
+/// order: column j = (f(q + ε e_j) − f(q − ε e_j)) / 2ε. f returns a vector
+/// (the result has its size in rows) or a real (one row). Every body is put
+/// back at its pose afterwards.
+template <class F>
+MatrixX CentralDifferenceOverDofs(Constraint const& c, real epsilon, F const& f) {
+  int const n = c.GetNumDofs();
+  MatrixX result;
+  int column = 0;
+  for (int a = 0; a < c.GetNumActors(); ++a) {
+    RigidActor& body = RigidOf(c, a);
+    Pose const base{body.GetPosition(), body.GetRotation()};
+    for (int local : ConstraintTestAccess::LocalDofs(c, a)) {
+      SetPerturbedPose(body, base.position, base.rotation, local, +epsilon);
+      auto const plus = f();
+      SetPerturbedPose(body, base.position, base.rotation, local, -epsilon);
+      auto const minus = f();
+      if constexpr (std::is_arithmetic_v<std::decay_t<decltype(plus)>>) {
+        if (column == 0) result.resize(1, n);
+        result(0, column++) = (plus - minus) / (2 * epsilon);
+      } else {
+        if (column == 0) result.resize(plus.size(), n);
+        result.col(column++) = (plus - minus) / (2 * epsilon);
+      }
+    }
+    // back to the pose it had
+    Error error;
+    REQUIRE(body.SetPose(base.position, base.rotation, error));
+  }
+  REQUIRE(column == n);
+  return result;
+}
+
+}  // namespace superdex::test

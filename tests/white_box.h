@@ -1,0 +1,141 @@
+// White-box access for the derivative tests: the library declares
+// `friend struct internal::ConstraintTestAccess;` in Constraint and
+// `friend struct internal::ActorTestAccess;` in Actor and leaves both
+// undefined; tests define them here, in one place, as thin forwarders to the
+// private stage interface. Nothing here adds behaviour.
+//
+// Also holds the small dense helpers the derivative tests share: reading an
+// assembled Hessian back into natural DoF order, and the tangent-space
+// perturbation of a rigid body (design.md §3: t ± ε e_j, R ← Exp(±ε e_j) R).
+#pragma once
+
+#include <superdex/assembly/hessian_assembler.h>
+#include <superdex/superdex.h>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace superdex::internal {
+
+struct ConstraintTestAccess {
+  /// g and J at the actors' current configuration for `target`, into ws.g /
+  /// ws.jacobian (ws must be Reserve(m, n)d).
+  static void Evaluate(Constraint const& c, Span<real const> target, ConstraintWorkspace& ws) {
+    c.Evaluate(target, ws);
+  }
+  /// The same, for the constraint's current target p̂.
+  static void EvaluateCurrent(Constraint const& c, ConstraintWorkspace& ws) {
+    c.Evaluate(c.target_, ws);
+  }
+  static Span<real const> Target(Constraint const& c) { return c.target_; }
+  static Span<real const> OldTarget(Constraint const& c) { return c.oldTarget_; }
+  /// Stores g(q⁰, p̂⁰) (the current configuration, the old target) as the
+  /// stage-start value.
+  static void BeginStage(Constraint& c, ConstraintWorkspace& ws) { c.BeginStage(ws); }
+  /// Φᶜ at the current configuration.
+  static real Energy(Constraint const& c, real h, ConstraintWorkspace& ws) { return c.Energy(h, ws); }
+  static void AddGradientAndHessian(Constraint const& c, real h, Span<real> gradient,
+                                    HessianAssembler& assembler, int contributor,
+                                    ConstraintWorkspace& ws) {
+    c.AddGradientAndHessian(h, gradient, assembler, contributor, ws);
+  }
+  static CompliantParams const& Params(Constraint const& c) { return c.params_; }
+  static VectorX const& StageStartValue(Constraint const& c) { return c.stageStartValue_; }
+  /// Global DoF list (actor 0's, then actor 1's).
+  static DynamicArray<int> const& Dofs(Constraint const& c) { return c.dofs_; }
+  /// Local DoF list of actor `a` (indices into that actor's own DoFs).
+  static DynamicArray<int> const& LocalDofs(Constraint const& c, int a) { return c.localDofs_[a]; }
+};
+
+struct ActorTestAccess {
+  static void BeginStage(Actor& a, StageCoefficients const& stage, Real3 const& gravity) {
+    a.BeginStage(stage, gravity);
+  }
+  static real Energy(Actor const& a) { return a.Energy(); }
+  static void AddGradientAndHessian(Actor const& a, Span<real> gradient, HessianAssembler& assembler,
+                                    int firstContributor) {
+    a.AddGradientAndHessian(gradient, assembler, firstContributor);
+  }
+  static void AppendContributorDofs(Actor const& a, DynamicArray<DynamicArray<int>>& dofLists) {
+    a.AppendContributorDofs(dofLists);
+  }
+  static void AppendDofBlockSizes(Actor const& a, DynamicArray<int>& sizes) {
+    a.AppendDofBlockSizes(sizes);
+  }
+};
+
+}  // namespace superdex::internal
+
+namespace superdex::test {
+
+/// Dense symmetric matrix, natural DoF order, of an assembler's current
+/// values (upper-triangle CSC in the assembler's ordered positions). The
+/// permutation is recovered through PermuteToOrdered of unit vectors, so
+/// this works for any ordering method.
+inline MatrixX DenseNaturalHessian(internal::HessianAssembler const& assembler) {
+  SparseSymmetricMatrix const& matrix = assembler.GetMatrix();
+  int const n = matrix.size;
+  MatrixX ordered = MatrixX::Zero(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int k = matrix.colStart[j]; k < matrix.colStart[j + 1]; ++k) {
+      int const i = matrix.rowIndex[k];
+      ordered(i, j) = matrix.values[k];
+      ordered(j, i) = matrix.values[k];
+    }
+  // position[i]: ordered position of natural DoF i
+  DynamicArray<int> position(n);
+  VectorX unit(n), out(n);
+  for (int i = 0; i < n; ++i) {
+    unit.setZero();
+    unit[i] = 1;
+    assembler.PermuteToOrdered(Span<real const>(unit.data(), n), Span<real>(out.data(), n));
+    Eigen::Index where;
+    out.maxCoeff(&where);
+    position[i] = static_cast<int>(where);
+  }
+  MatrixX natural(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) natural(i, j) = ordered(position[i], position[j]);
+  return natural;
+}
+
+/// Moves `body` by the tangent increment ε e_dof from (position, rotation):
+/// dof 0..2 translate, dof 3..5 rotate in the world frame, R ← Exp(ε e) R.
+inline void SetPerturbedPose(RigidActor& body, Real3 const& position, Quat const& rotation, int dof,
+                             real epsilon) {
+  Real3 t = position;
+  Quat r = rotation;
+  if (dof < 3) {
+    t[dof] += epsilon;
+  } else {
+    Real3 delta = Real3::Zero();
+    delta[dof - 3] = epsilon;
+    r = Exp(delta) * rotation;
+  }
+  Error error;
+  bool const ok = body.SetPose(t, r, error);
+  INFO(error.ToString());
+  REQUIRE(ok);
+}
+
+/// Largest entrywise error of `a` against `b`, in units of
+/// max(|a_ij|, |b_ij|, 1): the tolerance form of style habit 11.
+inline real MaxScaledError(MatrixX const& a, MatrixX const& b) {
+  REQUIRE(a.rows() == b.rows());
+  REQUIRE(a.cols() == b.cols());
+  real worst = 0;
+  for (Eigen::Index i = 0; i < a.rows(); ++i)
+    for (Eigen::Index j = 0; j < a.cols(); ++j) {
+      // a NaN or infinity is an infinite error, never a silently skipped entry
+      if (!std::isfinite(a(i, j)) || !std::isfinite(b(i, j)))
+        return std::numeric_limits<real>::infinity();
+      real const scale = std::max({std::abs(a(i, j)), std::abs(b(i, j)), real(1)});
+      worst = std::max(worst, std::abs(a(i, j) - b(i, j)) / scale);
+    }
+  return worst;
+}
+
+}  // namespace superdex::test
