@@ -1,6 +1,7 @@
 // SuperDex Physics — umbrella header. Include <superdex/superdex.h>.
 #pragma once
 
+#include <superdex/core/blas_info.h>
 #include <superdex/core/config.h>
 #include <superdex/core/error.h>
 #include <superdex/core/handle.h>

@@ -1,2 +1,76 @@
-# Installation and the find_package(SuperDex) package config.
-# (Filled in by the install work: headers, library, export set, config.)
+# Installation and the find_package(SuperDex) package.
+#
+#   <prefix>/lib/libsuperdex.so*                         the library
+#   <prefix>/include/superdex/<folder>/*.h               public headers, same paths as in the tree
+#   <prefix>/include/superdex/superdex.h                 umbrella header
+#   <prefix>/include/superdex/core/config.h              generated build configuration
+#   <prefix>/lib/cmake/SuperDex/SuperDex{Config,ConfigVersion,Targets}.cmake
+#
+# Consumers write find_package(SuperDex) and link SuperDex::superdex, which
+# brings Eigen (PUBLIC). CHOLMOD, METIS and the BLAS they load are PRIVATE to
+# the shared library and do not appear in the exported interface.
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+set(SUPERDEX_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/SuperDex
+    CACHE STRING "Where SuperDexConfig.cmake is installed, relative to the prefix")
+mark_as_advanced(SUPERDEX_INSTALL_CMAKEDIR)
+
+# the library; its include directory is set on the target (INSTALL_INTERFACE)
+set(_superdex_includes_destination)
+if(NOT CMAKE_INSTALL_INCLUDEDIR STREQUAL "include")
+  set(_superdex_includes_destination INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endif()
+install(TARGETS superdex
+  EXPORT SuperDexTargets
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime NAMELINK_COMPONENT development
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT development
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime
+  ${_superdex_includes_destination})
+
+# public headers, folder by folder; the file set is read at install time, so
+# headers added later need no reconfigure
+foreach(folder IN ITEMS core scene actors constraints assembly linsolve)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/${folder}/
+    DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/superdex/${folder}
+    COMPONENT development
+    FILES_MATCHING PATTERN "*.h")
+endforeach()
+install(FILES ${PROJECT_SOURCE_DIR}/superdex.h
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/superdex
+  COMPONENT development
+  OPTIONAL)
+install(FILES ${PROJECT_BINARY_DIR}/generated/superdex/core/config.h
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/superdex/core
+  COMPONENT development)
+
+# the package: targets, config, version
+install(EXPORT SuperDexTargets
+  NAMESPACE SuperDex::
+  FILE SuperDexTargets.cmake
+  DESTINATION ${SUPERDEX_INSTALL_CMAKEDIR}
+  COMPONENT development)
+
+get_target_property(_superdex_type superdex TYPE)
+if(_superdex_type STREQUAL "STATIC_LIBRARY")
+  set(SUPERDEX_STATIC ON)
+else()
+  set(SUPERDEX_STATIC OFF)
+endif()
+configure_package_config_file(
+  ${PROJECT_SOURCE_DIR}/cmake/SuperDexConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/SuperDexConfig.cmake
+  INSTALL_DESTINATION ${SUPERDEX_INSTALL_CMAKEDIR})
+# 0.x: minor versions may break the API
+write_basic_package_version_file(
+  ${PROJECT_BINARY_DIR}/SuperDexConfigVersion.cmake
+  VERSION ${PROJECT_VERSION}
+  COMPATIBILITY SameMinorVersion)
+install(FILES
+  ${PROJECT_BINARY_DIR}/SuperDexConfig.cmake
+  ${PROJECT_BINARY_DIR}/SuperDexConfigVersion.cmake
+  DESTINATION ${SUPERDEX_INSTALL_CMAKEDIR}
+  COMPONENT development)
+
+unset(_superdex_includes_destination)
+unset(_superdex_type)

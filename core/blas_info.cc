@@ -49,11 +49,11 @@ SimdTier CoreTier(std::string_view core) {
   static constexpr std::array<std::string_view, 3> kAvx512 = {"SkylakeX", "Cooperlake",
                                                               "SapphireRapids"};
   static constexpr std::array<std::string_view, 3> kAvx2 = {"Haswell", "Zen", "Excavator"};
-  static constexpr std::array<std::string_view, 4> kAvx = {"Sandybridge", "Bulldozer",
-                                                           "Piledriver", "Steamroller"};
+  static constexpr std::array<std::string_view, 4> kAvx = {"Sandybridge", "Bulldozer", "Piledriver",
+                                                           "Steamroller"};
   static constexpr std::array<std::string_view, 14> kSse = {
-      "Prescott", "Core2",   "Penryn",    "Dunnington", "Nehalem", "Atom",     "Opteron",
-      "Opteron_SSE3", "Barcelona", "Bobcat", "Katmai", "Coppermine", "Northwood", "Banias"};
+      "Prescott",     "Core2",     "Penryn", "Dunnington", "Nehalem",    "Atom",      "Opteron",
+      "Opteron_SSE3", "Barcelona", "Bobcat", "Katmai",     "Coppermine", "Northwood", "Banias"};
   if (in(kAvx512)) return SimdTier::kAvx512;
   if (in(kAvx2)) return SimdTier::kAvx2;
   if (in(kAvx)) return SimdTier::kAvx;
@@ -170,8 +170,16 @@ BlasInfo GetBlasInfo() {
     return info;
   }
 
+  if (blas.ProviderPath().empty()) {
+    info.library = "none loaded (no dgemm_ symbol in this process)";
+    info.fastKernels = false;
+    info.advice =
+        "no BLAS is loaded: this program does not link CHOLMOD (e.g. a static SuperDex whose "
+        "solvers it does not use)";
+    return info;
+  }
   info.library = "reference BLAS or unknown (no openblas_get_config symbol)";
-  if (!blas.ProviderPath().empty()) info.config = "dgemm_ from " + blas.ProviderPath();
+  info.config = "dgemm_ from " + blas.ProviderPath();
   info.fastKernels = false;
   info.advice =
       "no optimised BLAS identified (Debian's reference BLAS runs DGEMM ~15x slower than "

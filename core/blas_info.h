@@ -6,11 +6,12 @@
 // library at run time (dlsym on `openblas_get_config`, ...) rather than
 // reporting what was found at build time.
 //
-// OpenBLAS 0.3.21 (Debian bookworm) may not recognise a recent CPU and then
-// runs older kernels: on an AVX-512 machine DGEMM ran at ~22 GFLOP/s per core
-// with the SSE3 "Prescott" fallback, ~58 with "Haswell" (AVX2) and ~95 with
-// "SkylakeX" (AVX-512). Setting OPENBLAS_CORETYPE before the process starts
-// fixes it; `source scripts/env.sh` does that. See docs/blas.md.
+// OpenBLAS 0.3.21 (Debian bookworm) picks its kernels from the CPU id; a CPU
+// it maps to an older core, or a stray OPENBLAS_CORETYPE, runs far below the
+// hardware: on an AVX-512 machine DGEMM ran at ~23 GFLOP/s per core with the
+// SSE3 "Prescott" kernels, ~62 with "Haswell" (AVX2) and ~104 with "SkylakeX"
+// (AVX-512). Setting OPENBLAS_CORETYPE before the process starts fixes it;
+// `source scripts/env.sh` does that. See docs/blas.md.
 #pragma once
 
 #include <string>
@@ -18,12 +19,13 @@
 namespace superdex {
 
 struct BlasInfo {
-  /// "OpenBLAS", "Intel MKL", "BLIS", or
-  /// "reference BLAS or unknown (no openblas_get_config symbol)".
+  /// The library that provides the dgemm_ this process calls: "OpenBLAS",
+  /// "Intel MKL", "BLIS", "reference BLAS or unknown (no openblas_get_config
+  /// symbol)", or "none loaded (no dgemm_ symbol in this process)".
   std::string library;
   /// The library's own configuration string, e.g. "OpenBLAS 0.3.21
-  /// NO_LAPACKE DYNAMIC_ARCH NO_AFFINITY SkylakeX MAX_THREADS=64"; empty when
-  /// the library has none.
+  /// NO_LAPACKE DYNAMIC_ARCH NO_AFFINITY SkylakeX MAX_THREADS=64"; for an
+  /// unidentified library, "dgemm_ from <path>".
   std::string config;
   /// The kernel set in use ("SkylakeX", "Haswell", "Prescott", ...); empty
   /// when the library does not report one.

@@ -1,0 +1,63 @@
+# Environment for running SuperDex (bash). Source it: `source scripts/env.sh`.
+#
+# OpenBLAS 0.3.21 (Debian bookworm) picks its kernels from the CPU id, with
+# tables that only know the CPUs of its release; a CPU it maps to an older
+# core, or a stray OPENBLAS_CORETYPE, runs far below the hardware. Measured
+# DGEMM per core on an AVX-512 AMD EPYC (docs/blas.md): Prescott (SSE3) ~23,
+# Haswell (AVX2) ~62, SkylakeX (AVX-512) ~104 GFLOP/s. OPENBLAS_CORETYPE, read
+# when OpenBLAS loads, overrides the detection; here it is chosen from the CPU
+# flags:
+#   avx512f avx512bw avx512dq avx512vl avx512cd  -> SkylakeX
+#   avx2 fma                                      -> Haswell
+#   otherwise                                     -> unset (OpenBLAS decides)
+# A value already set by the caller is kept when it is at least as capable as
+# this CPU's best; a weaker one is replaced (with a note on stderr) unless
+# SUPERDEX_KEEP_OPENBLAS_CORETYPE is set.
+
+_superdex_flags=""
+if [[ -r /proc/cpuinfo ]]; then
+  _superdex_flags=" $(grep -m1 '^flags' /proc/cpuinfo | cut -d: -f2) "
+fi
+_superdex_has() {
+  local f
+  for f in "$@"; do
+    [[ ${_superdex_flags} == *" ${f} "* ]] || return 1
+  done
+}
+_superdex_coretype=""
+if _superdex_has avx512f avx512bw avx512dq avx512vl avx512cd; then
+  _superdex_coretype=SkylakeX
+elif _superdex_has avx2 fma; then
+  _superdex_coretype=Haswell
+fi
+
+# instruction-set tier of an OpenBLAS core name: 3 AVX-512, 2 AVX2, 1 AVX, 0 older
+_superdex_tier() {
+  case "${1,,}" in
+    skylakex | cooperlake | sapphirerapids) echo 3 ;;
+    haswell | skylake | zen | atom_avx2) echo 2 ;;
+    sandybridge) echo 1 ;;
+    *) echo 0 ;;
+  esac
+}
+
+if [[ -z ${OPENBLAS_CORETYPE:-} ]]; then
+  if [[ -n ${_superdex_coretype} ]]; then
+    export OPENBLAS_CORETYPE=${_superdex_coretype}
+  fi
+elif [[ -n ${_superdex_coretype} ]] &&
+  (($(_superdex_tier "${OPENBLAS_CORETYPE}") < $(_superdex_tier "${_superdex_coretype}"))); then
+  # a preset weaker than this CPU runs (seen: Haswell on an AVX-512 machine,
+  # half the DGEMM rate) is replaced, unless the caller asks to keep it
+  if [[ -n ${SUPERDEX_KEEP_OPENBLAS_CORETYPE:-} ]]; then
+    echo "env.sh: keeping OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE} (SUPERDEX_KEEP_OPENBLAS_CORETYPE is set);" \
+      "this CPU can run the ${_superdex_coretype} kernels" >&2
+  else
+    echo "env.sh: OPENBLAS_CORETYPE=${OPENBLAS_CORETYPE} from the environment is weaker than this CPU;" \
+      "using ${_superdex_coretype} (set SUPERDEX_KEEP_OPENBLAS_CORETYPE=1 to keep it)" >&2
+    export OPENBLAS_CORETYPE=${_superdex_coretype}
+  fi
+fi
+
+unset -f _superdex_has _superdex_tier
+unset _superdex_flags _superdex_coretype
