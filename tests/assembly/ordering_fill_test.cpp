@@ -2,6 +2,7 @@
 // fill than the natural ordering on a 3-D lattice of bodies.
 #include "test_support.h"
 
+#include <array>
 #include <iostream>
 
 using namespace superdex;
@@ -29,7 +30,7 @@ double FactorNonzeros(int n, OrderingMethod ordering) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k)
-        for (Real3 const& axis : {Real3::UnitX(), Real3::UnitY(), Real3::UnitZ()}) {
+        for (Real3 const& axis : std::array<Real3, 3>{Real3::UnitX(), Real3::UnitY(), Real3::UnitZ()}) {
           int const i2 = i + int(axis.x()), j2 = j + int(axis.y()), k2 = k + int(axis.z());
           if (i2 >= n || j2 >= n || k2 >= n) continue;
           RigidSphericalJointConstraintParams joint;
