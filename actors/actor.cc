@@ -4,7 +4,7 @@ namespace superdex {
 
 std::string_view ToString(ActorType type) {
   switch (type) {
-    case ActorType::kRigid: return "Rigid";
+    case ActorType::Rigid: return "Rigid";
   }
   return "Unknown";
 }

@@ -12,7 +12,7 @@ namespace superdex {
 
 class Scene;
 
-enum class ActorType { kRigid };
+enum class ActorType { Rigid };
 
 std::string_view ToString(ActorType type);
 

@@ -105,7 +105,7 @@ Real3 SolveMomentumConservingRotation(Real3 const& inertia, Real3 const& omega, 
 
 void RigidActor::BeginStage(internal::StageCoefficients const& requested, Real3 const& gravity) {
   stage_ = (requested.usesHistory && !state_.hasHistory)
-               ? internal::MakeStage(IntegratorType::kBackwardEuler, requested.duration, false)
+               ? internal::MakeStage(IntegratorType::BackwardEuler, requested.duration, false)
                : requested;
   internal::StageCoefficients const& stage = stage_;
   real const h = stage.duration;

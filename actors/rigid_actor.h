@@ -59,7 +59,7 @@ class RigidActor final : public Actor {
   real GetKineticEnergy() const;
 
  private:
-  RigidActor() : Actor(ActorType::kRigid, kNumDofs) {}
+  RigidActor() : Actor(ActorType::Rigid, kNumDofs) {}
 
   struct State {
     Real3 position, linearVelocity, angularVelocity;

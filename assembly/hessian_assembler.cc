@@ -25,7 +25,7 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
     for (int d = blockStart[b]; d < blockStart[b + 1]; ++d) dofToBlock[d] = static_cast<int>(b);
   }
   if (blockStart.back() != numDofs) {
-    error.Set(ErrorCode::kInvalidState, "DoF blocks cover " + std::to_string(blockStart.back()) +
+    error.Set(ErrorCode::InvalidState, "DoF blocks cover " + std::to_string(blockStart.back()) +
                                             " DoFs, expected " + std::to_string(numDofs));
     return false;
   }
@@ -33,7 +33,7 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
     for (std::size_t i = 0; i < dofs.size(); ++i) {
       if (dofs[i] < 0 || dofs[i] >= numDofs ||
           std::find(dofs.begin() + i + 1, dofs.end(), dofs[i]) != dofs.end()) {
-        error.Set(ErrorCode::kInvalidState,
+        error.Set(ErrorCode::InvalidState,
                   "contributor DoF list holds an out-of-range or repeated DoF " +
                       std::to_string(dofs[i]));
         return false;

@@ -9,8 +9,8 @@ namespace superdex {
 
 std::string_view ToString(OrderingMethod method) {
   switch (method) {
-    case OrderingMethod::kMetis: return "METIS";
-    case OrderingMethod::kNatural: return "natural";
+    case OrderingMethod::Metis: return "METIS";
+    case OrderingMethod::Natural: return "natural";
   }
   return "Unknown";
 }
@@ -53,7 +53,7 @@ bool OrderBlocks(BlockGraph const& graph, OrderingMethod method, DynamicArray<in
   std::iota(blockOrder.begin(), blockOrder.end(), 0);
   // METIS needs a graph with at least one edge to dissect; tiny or edgeless
   // graphs keep the natural order (nothing to gain)
-  if (method == OrderingMethod::kNatural || numBlocks < 3 || graph.adjacency.empty()) return true;
+  if (method == OrderingMethod::Natural || numBlocks < 3 || graph.adjacency.empty()) return true;
 
   DynamicArray<idx_t> xadj(graph.adjacencyStart.begin(), graph.adjacencyStart.end());
   DynamicArray<idx_t> adjncy(graph.adjacency.begin(), graph.adjacency.end());
@@ -65,7 +65,7 @@ bool OrderBlocks(BlockGraph const& graph, OrderingMethod method, DynamicArray<in
   int status = METIS_NodeND(&numBlocks, xadj.data(), adjncy.data(), vwgt.data(), options,
                             perm.data(), iperm.data());
   if (status != METIS_OK) {
-    error.Set(ErrorCode::kBackendError,
+    error.Set(ErrorCode::BackendError,
               "METIS_NodeND failed with status " + std::to_string(status) + " on a block graph of " +
                   std::to_string(numBlocks) + " vertices");
     return false;

@@ -12,8 +12,8 @@
 namespace superdex {
 
 enum class OrderingMethod {
-  kMetis,    ///< METIS_NodeND nested dissection on the block graph (default)
-  kNatural,  ///< DoFs in actor-creation order (for comparisons)
+  Metis,    ///< METIS_NodeND nested dissection on the block graph (default)
+  Natural,  ///< DoFs in actor-creation order (for comparisons)
 };
 
 std::string_view ToString(OrderingMethod method);

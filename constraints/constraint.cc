@@ -94,13 +94,13 @@ bool Constraint::SetSaturation(real saturation, Error& error) {
 
 bool Constraint::RequireTarget(TargetKind kind, std::string_view method, Error& error) const {
   if (targetKind_ == kind) return true;
-  error.Set(ErrorCode::kNotSupported, std::string(method) + " does not apply to a " +
+  error.Set(ErrorCode::NotSupported, std::string(method) + " does not apply to a " +
                                           std::string(ToString(type_)) + " constraint");
   return false;
 }
 
 bool Constraint::SetTargetPosition(Real3 const& position, Error& error) {
-  if (!RequireTarget(TargetKind::kPosition, "SetTargetPosition", error) ||
+  if (!RequireTarget(TargetKind::Position, "SetTargetPosition", error) ||
       !internal::CheckFinite(position, "position", error))
     return false;
   for (int i = 0; i < 3; ++i) target_[i] = position[i];
@@ -108,7 +108,7 @@ bool Constraint::SetTargetPosition(Real3 const& position, Error& error) {
 }
 
 bool Constraint::SetTargetRotation(Quat const& rotation, Error& error) {
-  if (!RequireTarget(TargetKind::kRotation, "SetTargetRotation", error) ||
+  if (!RequireTarget(TargetKind::Rotation, "SetTargetRotation", error) ||
       !internal::CheckUnitQuat(rotation, "rotation", error))
     return false;
   Quat const q = rotation.normalized();
@@ -117,7 +117,7 @@ bool Constraint::SetTargetRotation(Quat const& rotation, Error& error) {
 }
 
 bool Constraint::SetTargetTransform(Real3 const& position, Quat const& rotation, Error& error) {
-  if (!RequireTarget(TargetKind::kTransform, "SetTargetTransform", error) ||
+  if (!RequireTarget(TargetKind::Transform, "SetTargetTransform", error) ||
       !internal::CheckFinite(position, "position", error) ||
       !internal::CheckUnitQuat(rotation, "rotation", error))
     return false;
@@ -128,7 +128,7 @@ bool Constraint::SetTargetTransform(Real3 const& position, Quat const& rotation,
 }
 
 bool Constraint::SetTargetDof(real value, Error& error) {
-  if (!RequireTarget(TargetKind::kDof, "SetTargetDof", error) ||
+  if (!RequireTarget(TargetKind::Dof, "SetTargetDof", error) ||
       !internal::CheckFinite(value, "value", error))
     return false;
   target_[0] = value;
@@ -136,8 +136,8 @@ bool Constraint::SetTargetDof(real value, Error& error) {
 }
 
 bool Constraint::UpdateOldTarget(Error& error) {
-  if (targetKind_ == TargetKind::kNone) {
-    error.Set(ErrorCode::kNotSupported,
+  if (targetKind_ == TargetKind::None) {
+    error.Set(ErrorCode::NotSupported,
               "UpdateOldTarget does not apply to a " + std::string(ToString(type_)) +
                   " constraint (it has no target)");
     return false;
@@ -168,7 +168,7 @@ bool Constraint::IsQuerySupported(QueryType type) const { return type == QueryTy
 
 bool Constraint::RegisterQuery(QueryType type, Error& error) {
   if (!IsQuerySupported(type)) {
-    error.Set(ErrorCode::kNotSupported, "query " + std::string(ToString(type)) +
+    error.Set(ErrorCode::NotSupported, "query " + std::string(ToString(type)) +
                                             " is not supported by a " +
                                             std::string(ToString(type_)) + " constraint");
     return false;
@@ -179,12 +179,12 @@ bool Constraint::RegisterQuery(QueryType type, Error& error) {
 
 Span<real const> Constraint::GetForce(Error& error) const {
   if (!forceQueryRegistered_) {
-    error.Set(ErrorCode::kInvalidState,
+    error.Set(ErrorCode::InvalidState,
               "GetForce needs RegisterQuery(QueryType::ConstraintForce) before stepping");
     return {};
   }
   if (!forceValid_) {
-    error.Set(ErrorCode::kInvalidState,
+    error.Set(ErrorCode::InvalidState,
               "GetForce: no step has completed since the ConstraintForce query was registered");
     return {};
   }
@@ -198,7 +198,7 @@ void Constraint::DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& uppe
 
 DynamicArray<real> Constraint::GetLimitMinValues(Error& error) const {
   if (!isRange_) {
-    error.Set(ErrorCode::kNotSupported, "GetLimitMinValues does not apply to a " +
+    error.Set(ErrorCode::NotSupported, "GetLimitMinValues does not apply to a " +
                                             std::string(ToString(type_)) +
                                             " constraint (not a range type)");
     return {};
@@ -210,7 +210,7 @@ DynamicArray<real> Constraint::GetLimitMinValues(Error& error) const {
 
 DynamicArray<real> Constraint::GetLimitMaxValues(Error& error) const {
   if (!isRange_) {
-    error.Set(ErrorCode::kNotSupported, "GetLimitMaxValues does not apply to a " +
+    error.Set(ErrorCode::NotSupported, "GetLimitMaxValues does not apply to a " +
                                             std::string(ToString(type_)) +
                                             " constraint (not a range type)");
     return {};

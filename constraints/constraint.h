@@ -127,14 +127,14 @@ class Constraint {
   DynamicArray<real> GetLimitMaxValues(Error& error) const;
 
  protected:
-  enum class TargetKind { kNone, kPosition, kRotation, kTransform, kDof };
+  enum class TargetKind { None, Position, Rotation, Transform, Dof };
 
   /// A type declares m, its kind of target, whether it is a range type, and
   /// for each actor the local DoFs it touches (e.g. {3,4,5}: rotation only).
   struct Layout {
     ConstraintType type;
     int dimension;
-    TargetKind targetKind = TargetKind::kNone;
+    TargetKind targetKind = TargetKind::None;
     bool isRange = false;
     std::array<Actor*, 2> actors{};
     std::array<DynamicArray<int>, 2> localDofs;

@@ -9,7 +9,7 @@ RigidPivotPositionConstraint::RigidPivotPositionConstraint(
     RigidActor* actor, RigidPivotPositionConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::RigidPivotPosition,
                         .dimension = 3,
-                        .targetKind = TargetKind::kPosition,
+                        .targetKind = TargetKind::Position,
                         .actors = {actor, nullptr},
                         .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5}, DynamicArray<int>{}}},
                  {params.stiffness, params.damping, params.saturation}),

@@ -13,7 +13,7 @@ namespace internal {
 namespace {
 
 // Instruction-set tiers, in the order OpenBLAS's kernels use them.
-enum class SimdTier { kSse = 0, kAvx = 1, kAvx2 = 2, kAvx512 = 3 };
+enum class SimdTier { Sse = 0, Avx = 1, Avx2 = 2, Avx512 = 3 };
 
 // The best tier this CPU (and OS) supports.
 SimdTier CpuTier() {
@@ -22,12 +22,12 @@ SimdTier CpuTier() {
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
       __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
       __builtin_cpu_supports("avx512cd")) {
-    return SimdTier::kAvx512;
+    return SimdTier::Avx512;
   }
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return SimdTier::kAvx2;
-  if (__builtin_cpu_supports("avx")) return SimdTier::kAvx;
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return SimdTier::Avx2;
+  if (__builtin_cpu_supports("avx")) return SimdTier::Avx;
 #endif
-  return SimdTier::kSse;
+  return SimdTier::Sse;
 }
 
 // The tier of an OpenBLAS (0.3.x) x86 core name. Names not listed (other
@@ -54,23 +54,23 @@ SimdTier CoreTier(std::string_view core) {
   static constexpr std::array<std::string_view, 14> kSse = {
       "Prescott",     "Core2",     "Penryn", "Dunnington", "Nehalem",    "Atom",      "Opteron",
       "Opteron_SSE3", "Barcelona", "Bobcat", "Katmai",     "Coppermine", "Northwood", "Banias"};
-  if (in(kAvx512)) return SimdTier::kAvx512;
-  if (in(kAvx2)) return SimdTier::kAvx2;
-  if (in(kAvx)) return SimdTier::kAvx;
-  if (in(kSse)) return SimdTier::kSse;
-  return SimdTier::kAvx512;
+  if (in(kAvx512)) return SimdTier::Avx512;
+  if (in(kAvx2)) return SimdTier::Avx2;
+  if (in(kAvx)) return SimdTier::Avx;
+  if (in(kSse)) return SimdTier::Sse;
+  return SimdTier::Avx512;
 }
 
 // The OPENBLAS_CORETYPE value that selects the best kernels of a tier.
 std::string_view CoreTypeFor(SimdTier tier) {
   switch (tier) {
-    case SimdTier::kAvx512:
+    case SimdTier::Avx512:
       return "SkylakeX";
-    case SimdTier::kAvx2:
+    case SimdTier::Avx2:
       return "Haswell";
-    case SimdTier::kAvx:
+    case SimdTier::Avx:
       return "Sandybridge";
-    case SimdTier::kSse:
+    case SimdTier::Sse:
       break;
   }
   return "";
@@ -118,7 +118,7 @@ BlasInfo GetBlasInfo() {
   using namespace internal;
   BlasInfo info;
   SimdTier const cpuTier = CpuTier();
-  info.cpuHasAvx512 = cpuTier == SimdTier::kAvx512;
+  info.cpuHasAvx512 = cpuTier == SimdTier::Avx512;
   BlasSymbols const blas;
 
   // OpenBLAS: what libblas.so.3 (loaded by CHOLMOD) is when setup.sh ran

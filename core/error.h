@@ -9,15 +9,15 @@
 namespace superdex {
 
 enum class ErrorCode {
-  kNone = 0,
-  kInvalidArgument,    ///< a parameter is out of its valid range or non-finite
-  kInvalidHandle,      ///< a handle is stale, null or of the wrong kind
-  kNotSupported,       ///< the method does not apply to this object's type
-  kInvalidState,       ///< the call is valid but not in the object's current state
-  kNewtonFailed,       ///< a stage's Newton iteration did not converge
-  kLinearSolverFailed, ///< the linear solver failed (not positive definite, not converged)
-  kNonFiniteState,     ///< a stage produced a non-finite energy or configuration
-  kBackendError,       ///< an external library (CHOLMOD, METIS, PETSc) reported an error
+  None = 0,
+  InvalidArgument,    ///< a parameter is out of its valid range or non-finite
+  InvalidHandle,      ///< a handle is stale, null or of the wrong kind
+  NotSupported,       ///< the method does not apply to this object's type
+  InvalidState,       ///< the call is valid but not in the object's current state
+  NewtonFailed,       ///< a stage's Newton iteration did not converge
+  LinearSolverFailed, ///< the linear solver failed (not positive definite, not converged)
+  NonFiniteState,     ///< a stage produced a non-finite energy or configuration
+  BackendError,       ///< an external library (CHOLMOD, METIS, PETSc) reported an error
 };
 
 /// Short name of an error code ("InvalidArgument", ...).
@@ -29,7 +29,7 @@ class Error {
   Error(ErrorCode code, std::string message) : code_(code), message_(std::move(message)) {}
 
   /// True when an error is set.
-  explicit operator bool() const { return code_ != ErrorCode::kNone; }
+  explicit operator bool() const { return code_ != ErrorCode::None; }
 
   ErrorCode GetCode() const { return code_; }
   std::string const& GetMessage() const { return message_; }
@@ -40,7 +40,7 @@ class Error {
     message_ = std::move(message);
   }
   void Clear() {
-    code_ = ErrorCode::kNone;
+    code_ = ErrorCode::None;
     message_.clear();
   }
 
@@ -48,7 +48,7 @@ class Error {
   std::string ToString() const;
 
  private:
-  ErrorCode code_ = ErrorCode::kNone;
+  ErrorCode code_ = ErrorCode::None;
   std::string message_;
 };
 

@@ -23,7 +23,7 @@ std::string Format(Quat const& q) {
 
 namespace {
 bool Fail(std::string_view field, std::string_view rule, std::string const& value, Error& error) {
-  error.Set(ErrorCode::kInvalidArgument,
+  error.Set(ErrorCode::InvalidArgument,
             std::string(field) + " must be " + std::string(rule) + ", got " + value);
   return false;
 }

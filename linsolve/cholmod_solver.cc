@@ -142,7 +142,7 @@ CholmodSolver::CholmodSolver(CholmodOrdering ordering)
   common.print = 0;
   common.supernodal = CHOLMOD_SUPERNODAL;
   common.postorder = 1;  // a postorder of the etree helps the supernodal factorization
-  if (ordering_ == CholmodOrdering::kGiven) {
+  if (ordering_ == CholmodOrdering::Given) {
     common.nmethods = 1;
     common.method[0].ordering = CHOLMOD_NATURAL;
   } else {
@@ -214,7 +214,7 @@ LinearSolveResult CholmodSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
   if (impl.factor == nullptr || impl.common.status < CHOLMOD_OK) {
     int const status = impl.common.status;
     impl.FreeFactorAndWorkspaces();
-    return Failure(LinearSolveStatus::kBackendError,
+    return Failure(LinearSolveStatus::BackendError,
                    "cholmod_analyze failed: " + StatusName(status));
   }
   impl.factorNonzeros = impl.common.lnz;
@@ -231,7 +231,7 @@ LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   int const ok = cholmod_factorize(&matrix, impl.factor, &impl.common);
   int const status = impl.common.status;
   if (!ok || status < CHOLMOD_OK) {
-    return Failure(LinearSolveStatus::kBackendError,
+    return Failure(LinearSolveStatus::BackendError,
                    "cholmod_factorize failed: " + StatusName(status));
   }
 
@@ -243,7 +243,7 @@ LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   auto const toCallerColumn = [perm](int k) { return perm != nullptr ? perm[k] : k; };
   if (status == CHOLMOD_NOT_POSDEF || factor.minor < factor.n) {
     int const k = static_cast<int>(factor.minor);
-    LinearSolveResult result = Failure(LinearSolveStatus::kNotPositiveDefinite,
+    LinearSolveResult result = Failure(LinearSolveStatus::NotPositiveDefinite,
                                        "CHOLMOD: A is not positive definite: the pivot of column " +
                                            std::to_string(toCallerColumn(k)) + " is <= 0 (column " +
                                            std::to_string(k) + " of the permuted factor)");
@@ -252,7 +252,7 @@ LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   }
   if (int const k = FirstNonFiniteDiagonal(factor); k >= 0) {
     LinearSolveResult result =
-        Failure(LinearSolveStatus::kNotPositiveDefinite,
+        Failure(LinearSolveStatus::NotPositiveDefinite,
                 "CHOLMOD: the pivot of column " + std::to_string(toCallerColumn(k)) +
                     " is not finite (overflow: A is numerically not positive definite)");
     result.failingColumn = toCallerColumn(k);
@@ -280,7 +280,7 @@ LinearSolveResult CholmodSolver::DoSolve(Span<real const> b, Span<real> x) {
   int const ok = cholmod_solve2(CHOLMOD_A, impl.factor, &rhs, nullptr, &impl.solution, nullptr,
                                 &impl.workY, &impl.workE, &impl.common);
   if (!ok || impl.common.status < CHOLMOD_OK || impl.solution == nullptr) {
-    return Failure(LinearSolveStatus::kBackendError,
+    return Failure(LinearSolveStatus::BackendError,
                    "cholmod_solve2 failed: " + StatusName(impl.common.status));
   }
   std::copy_n(static_cast<double const*>(impl.solution->x), n, x.data());

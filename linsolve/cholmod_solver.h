@@ -30,21 +30,21 @@ namespace superdex::internal {
 
 /// The ordering cholmod_analyze uses.
 enum class CholmodOrdering {
-  kGiven,           ///< natural: trust the caller's (already fill-reducing) column order
-  kCholmodDefault,  ///< CHOLMOD's own choice (AMD, then METIS/NESDIS if AMD is poor)
+  Given,           ///< natural: trust the caller's (already fill-reducing) column order
+  CholmodDefault,  ///< CHOLMOD's own choice (AMD, then METIS/NESDIS if AMD is poor)
 };
 
 class CholmodSolver final : public LinearSolver {
  public:
   /// Starts a cholmod_common for this solver (cholmod_start).
-  explicit CholmodSolver(CholmodOrdering ordering = CholmodOrdering::kGiven);
+  explicit CholmodSolver(CholmodOrdering ordering = CholmodOrdering::Given);
   /// Frees the factor and workspaces and ends the cholmod_common (cholmod_finish).
   ~CholmodSolver() override;
 
   CholmodSolver(CholmodSolver const&) = delete;
   CholmodSolver& operator=(CholmodSolver const&) = delete;
 
-  LinearSolverType GetType() const override { return LinearSolverType::kCholmod; }
+  LinearSolverType GetType() const override { return LinearSolverType::Cholmod; }
   /// E.g. "CHOLMOD 3.0.14 supernodal LL', ordering natural+postorder"; before
   /// Analyze only the version and "not analyzed".
   std::string GetDescription() const override;

@@ -12,7 +12,7 @@ namespace {
 
 LinearSolveResult NotPositiveDefinite(int column, std::string reason) {
   LinearSolveResult result;
-  result.status = LinearSolveStatus::kNotPositiveDefinite;
+  result.status = LinearSolveStatus::NotPositiveDefinite;
   result.failingColumn = column;
   result.reason = std::move(reason);
   return result;

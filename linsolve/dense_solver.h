@@ -20,7 +20,7 @@ namespace superdex::internal {
 
 class DenseCholeskySolver final : public LinearSolver {
  public:
-  LinearSolverType GetType() const override { return LinearSolverType::kDense; }
+  LinearSolverType GetType() const override { return LinearSolverType::Dense; }
   /// "dense Cholesky LL' (Eigen 3.4.0)".
   std::string GetDescription() const override;
   /// n (n + 1) / 2 after Analyze (L is stored dense), else -1.

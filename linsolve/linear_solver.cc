@@ -95,11 +95,11 @@ std::ptrdiff_t FirstNonFinite(Span<real const> v) {
 
 std::string_view ToString(LinearSolverType type) {
   switch (type) {
-    case LinearSolverType::kAuto:
+    case LinearSolverType::Auto:
       return "Auto";
-    case LinearSolverType::kCholmod:
+    case LinearSolverType::Cholmod:
       return "Cholmod";
-    case LinearSolverType::kDense:
+    case LinearSolverType::Dense:
       return "Dense";
   }
   return "Unknown";
@@ -107,17 +107,17 @@ std::string_view ToString(LinearSolverType type) {
 
 std::string_view ToString(LinearSolveStatus status) {
   switch (status) {
-    case LinearSolveStatus::kOk:
+    case LinearSolveStatus::Ok:
       return "Ok";
-    case LinearSolveStatus::kNotPositiveDefinite:
+    case LinearSolveStatus::NotPositiveDefinite:
       return "NotPositiveDefinite";
-    case LinearSolveStatus::kNotConverged:
+    case LinearSolveStatus::NotConverged:
       return "NotConverged";
-    case LinearSolveStatus::kBackendError:
+    case LinearSolveStatus::BackendError:
       return "BackendError";
-    case LinearSolveStatus::kInvalidState:
+    case LinearSolveStatus::InvalidState:
       return "InvalidState";
-    case LinearSolveStatus::kInvalidInput:
+    case LinearSolveStatus::InvalidInput:
       return "InvalidInput";
   }
   return "Unknown";
@@ -130,7 +130,7 @@ LinearSolveResult LinearSolver::Analyze(SparseSymmetricMatrix const& a) {
 
   std::string const patternError = CheckPattern(a);
   if (!patternError.empty()) {
-    return MakeFailure(LinearSolveStatus::kInvalidInput, "Analyze: " + patternError);
+    return MakeFailure(LinearSolveStatus::InvalidInput, "Analyze: " + patternError);
   }
 
   LinearSolveResult result = DoAnalyze(a);
@@ -146,14 +146,14 @@ LinearSolveResult LinearSolver::Analyze(SparseSymmetricMatrix const& a) {
 LinearSolveResult LinearSolver::Factorize(SparseSymmetricMatrix const& a) {
   if (!analyzed_) {
     factorized_ = false;
-    return MakeFailure(LinearSolveStatus::kInvalidState,
+    return MakeFailure(LinearSolveStatus::InvalidState,
                        "Factorize called before a successful Analyze");
   }
   // a matrix of another pattern leaves the analysis intact but the factor
   // unusable: the caller must Analyze the new pattern first
   if (a.patternVersion != analyzedVersion_) {
     factorized_ = false;
-    return MakeFailure(LinearSolveStatus::kInvalidState,
+    return MakeFailure(LinearSolveStatus::InvalidState,
                        "Factorize: A.patternVersion = " + std::to_string(a.patternVersion) +
                            " differs from the analyzed pattern version " +
                            std::to_string(analyzedVersion_) + "; call Analyze first");
@@ -163,7 +163,7 @@ LinearSolveResult LinearSolver::Factorize(SparseSymmetricMatrix const& a) {
       a.colStart.size() != static_cast<std::size_t>(size_) + 1 ||
       a.rowIndex.size() != static_cast<std::size_t>(analyzedNonzeros_)) {
     factorized_ = false;
-    return MakeFailure(LinearSolveStatus::kInvalidState,
+    return MakeFailure(LinearSolveStatus::InvalidState,
                        "Factorize: A has size " + std::to_string(a.size) + " and " +
                            std::to_string(a.NumNonzeros()) +
                            " nonzeros but the analyzed pattern (version " +
@@ -173,7 +173,7 @@ LinearSolveResult LinearSolver::Factorize(SparseSymmetricMatrix const& a) {
   }
   if (a.values.size() != static_cast<std::size_t>(analyzedNonzeros_)) {
     factorized_ = false;
-    return MakeFailure(LinearSolveStatus::kInvalidInput,
+    return MakeFailure(LinearSolveStatus::InvalidInput,
                        "Factorize: A.values must have " + std::to_string(analyzedNonzeros_) +
                            " entries, got " + std::to_string(a.values.size()));
   }
@@ -182,7 +182,7 @@ LinearSolveResult LinearSolver::Factorize(SparseSymmetricMatrix const& a) {
   std::string const valueError = CheckValuesFinite(a);
   if (!valueError.empty()) {
     factorized_ = false;
-    return MakeFailure(LinearSolveStatus::kInvalidInput, "Factorize: " + valueError);
+    return MakeFailure(LinearSolveStatus::InvalidInput, "Factorize: " + valueError);
   }
 
   LinearSolveResult result = DoFactorize(a);
@@ -192,19 +192,19 @@ LinearSolveResult LinearSolver::Factorize(SparseSymmetricMatrix const& a) {
 
 LinearSolveResult LinearSolver::Solve(Span<real const> b, Span<real> x) {
   if (!factorized_) {
-    return MakeFailure(LinearSolveStatus::kInvalidState,
+    return MakeFailure(LinearSolveStatus::InvalidState,
                        analyzed_
                            ? "Solve called without a successful Factorize since the last Analyze"
                            : "Solve called before Analyze and Factorize");
   }
   auto const n = static_cast<std::size_t>(size_);
   if (b.size() != n) {
-    return MakeFailure(LinearSolveStatus::kInvalidInput,
+    return MakeFailure(LinearSolveStatus::InvalidInput,
                        "Solve: b must have " + std::to_string(n) +
                            " entries (the factorized size), got " + std::to_string(b.size()));
   }
   if (x.size() != n) {
-    return MakeFailure(LinearSolveStatus::kInvalidInput,
+    return MakeFailure(LinearSolveStatus::InvalidInput,
                        "Solve: x must have " + std::to_string(n) +
                            " entries (the factorized size), got " + std::to_string(x.size()));
   }
@@ -214,11 +214,11 @@ LinearSolveResult LinearSolver::Solve(Span<real const> b, Span<real> x) {
     real const* bBegin = b.data();
     real const* xBegin = x.data();
     if (less(bBegin, xBegin + n) && less(xBegin, bBegin + n)) {
-      return MakeFailure(LinearSolveStatus::kInvalidInput, "Solve: b and x must not overlap");
+      return MakeFailure(LinearSolveStatus::InvalidInput, "Solve: b and x must not overlap");
     }
   }
   if (std::ptrdiff_t const i = FirstNonFinite(b); i >= 0) {
-    return MakeFailure(LinearSolveStatus::kInvalidInput,
+    return MakeFailure(LinearSolveStatus::InvalidInput,
                        "Solve: b[" + std::to_string(i) + "] is not finite: " + FormatReal(b[i]));
   }
 
@@ -227,7 +227,7 @@ LinearSolveResult LinearSolver::Solve(Span<real const> b, Span<real> x) {
   // a finite, positive definite factor can still overflow on a nearly
   // singular matrix; report it rather than hand back inf or NaN
   if (std::ptrdiff_t const i = FirstNonFinite(Span<real const>(x.data(), x.size())); i >= 0) {
-    return MakeFailure(LinearSolveStatus::kBackendError,
+    return MakeFailure(LinearSolveStatus::BackendError,
                        "Solve: the solution overflowed, x[" + std::to_string(i) +
                            "] = " + FormatReal(x[i]) + " (A is numerically singular)");
   }
@@ -237,41 +237,41 @@ LinearSolveResult LinearSolver::Solve(Span<real const> b, Span<real> x) {
 DynamicArray<LinearSolverType> AvailableLinearSolvers() {
   DynamicArray<LinearSolverType> types;
 #if SUPERDEX_HAS_CHOLMOD
-  types.push_back(LinearSolverType::kCholmod);
+  types.push_back(LinearSolverType::Cholmod);
 #endif
-  types.push_back(LinearSolverType::kDense);
+  types.push_back(LinearSolverType::Dense);
   return types;
 }
 
 LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size) {
-  if (requested != LinearSolverType::kAuto) return requested;
+  if (requested != LinearSolverType::Auto) return requested;
 #if SUPERDEX_HAS_CHOLMOD
-  return size <= kDenseSolverMaxSize ? LinearSolverType::kDense : LinearSolverType::kCholmod;
+  return size <= kDenseSolverMaxSize ? LinearSolverType::Dense : LinearSolverType::Cholmod;
 #else
   (void)size;
-  return LinearSolverType::kDense;
+  return LinearSolverType::Dense;
 #endif
 }
 
 std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, Error& error) {
   switch (type) {
-    case LinearSolverType::kAuto:
-      error.Set(ErrorCode::kInvalidArgument,
+    case LinearSolverType::Auto:
+      error.Set(ErrorCode::InvalidArgument,
                 "CreateLinearSolver: type must be a concrete backend, got Auto; resolve it with "
                 "ResolveLinearSolverType(type, size) first");
       return nullptr;
-    case LinearSolverType::kCholmod:
+    case LinearSolverType::Cholmod:
 #if SUPERDEX_HAS_CHOLMOD
       return std::make_unique<internal::CholmodSolver>();
 #else
-      error.Set(ErrorCode::kNotSupported,
+      error.Set(ErrorCode::NotSupported,
                 "CreateLinearSolver: type Cholmod is not compiled into this build of SuperDex");
       return nullptr;
 #endif
-    case LinearSolverType::kDense:
+    case LinearSolverType::Dense:
       return std::make_unique<internal::DenseCholeskySolver>();
   }
-  error.Set(ErrorCode::kInvalidArgument,
+  error.Set(ErrorCode::InvalidArgument,
             "CreateLinearSolver: type must be a LinearSolverType, got the value " +
                 std::to_string(static_cast<int>(type)));
   return nullptr;

@@ -25,9 +25,9 @@
 namespace superdex {
 
 enum class LinearSolverType {
-  kAuto,     ///< dense up to kDenseSolverMaxSize unknowns, CHOLMOD above
-  kCholmod,  ///< SuiteSparse CHOLMOD supernodal Cholesky
-  kDense,    ///< dense Cholesky (Eigen), for tiny systems
+  Auto,     ///< dense up to DenseSolverMaxSize unknowns, CHOLMOD above
+  Cholmod,  ///< SuiteSparse CHOLMOD supernodal Cholesky
+  Dense,    ///< dense Cholesky (Eigen), for tiny systems
 };
 
 std::string_view ToString(LinearSolverType type);
@@ -39,24 +39,24 @@ std::string_view ToString(LinearSolverType type);
 inline constexpr int kDenseSolverMaxSize = 96;
 
 enum class LinearSolveStatus {
-  kOk,
-  kNotPositiveDefinite,  ///< `failingColumn` holds the column where it failed
-  kNotConverged,         ///< iterative backends: `reason`, `iterations`, `relativeResidual`
-  kBackendError,         ///< the external library reported an error: `reason`
-  kInvalidState,         ///< call out of order, or pattern changed since Analyze
-  kInvalidInput,         ///< malformed pattern, wrong b/x size, or a non-finite value: `reason`
+  Ok,
+  NotPositiveDefinite,  ///< `failingColumn` holds the column where it failed
+  NotConverged,         ///< iterative backends: `reason`, `iterations`, `relativeResidual`
+  BackendError,         ///< the external library reported an error: `reason`
+  InvalidState,         ///< call out of order, or pattern changed since Analyze
+  InvalidInput,         ///< malformed pattern, wrong b/x size, or a non-finite value: `reason`
 };
 
 std::string_view ToString(LinearSolveStatus status);
 
 struct LinearSolveResult {
-  LinearSolveStatus status = LinearSolveStatus::kOk;
+  LinearSolveStatus status = LinearSolveStatus::Ok;
   int failingColumn = -1;      ///< kNotPositiveDefinite: column in the matrix's (given) order
   int iterations = 0;          ///< iterative backends; 0 for direct ones
   real relativeResidual = 0;   ///< ‖Ax − b‖/‖b‖ when the backend computes it, else 0
   std::string reason;          ///< human-readable cause when status != kOk
 
-  bool Ok() const { return status == LinearSolveStatus::kOk; }
+  bool Ok() const { return status == LinearSolveStatus::Ok; }
 };
 
 class LinearSolver {

@@ -4,8 +4,8 @@ namespace superdex {
 
 std::string_view ToString(IntegratorType type) {
   switch (type) {
-    case IntegratorType::kBackwardEuler: return "BackwardEuler";
-    case IntegratorType::kBdf2: return "BDF2";
+    case IntegratorType::BackwardEuler: return "BackwardEuler";
+    case IntegratorType::Bdf2: return "BDF2";
   }
   return "Unknown";
 }
@@ -15,7 +15,7 @@ namespace internal {
 StageCoefficients MakeStage(IntegratorType type, real dt, bool hasHistory) {
   StageCoefficients s;
   s.duration = dt;
-  if (type == IntegratorType::kBdf2 && hasHistory) {
+  if (type == IntegratorType::Bdf2 && hasHistory) {
     s.beta = 2.0 / 3.0;
     s.cPrevious = -1.0 / 3.0;
     s.aVelocity = 4.0 / 3.0;

@@ -21,7 +21,7 @@
 
 namespace superdex {
 
-enum class IntegratorType { kBackwardEuler, kBdf2 };
+enum class IntegratorType { BackwardEuler, Bdf2 };
 
 std::string_view ToString(IntegratorType type);
 

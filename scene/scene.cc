@@ -23,14 +23,14 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
   using namespace internal;
   if (!CheckFinite(params.gravity, "SceneParams.gravity", error)) return nullptr;
   if (params.newton.maxIterations <= 0) {
-    error.Set(ErrorCode::kInvalidArgument, "SceneParams.newton.maxIterations must be > 0, got " +
+    error.Set(ErrorCode::InvalidArgument, "SceneParams.newton.maxIterations must be > 0, got " +
                                                std::to_string(params.newton.maxIterations));
     return nullptr;
   }
   if (!CheckPositive(params.newton.velocityTolerance, "SceneParams.newton.velocityTolerance", error))
     return nullptr;
   if (params.newton.maxLineSearchSteps <= 0) {
-    error.Set(ErrorCode::kInvalidArgument, "SceneParams.newton.maxLineSearchSteps must be > 0, got " +
+    error.Set(ErrorCode::InvalidArgument, "SceneParams.newton.maxLineSearchSteps must be > 0, got " +
                                                std::to_string(params.newton.maxLineSearchSteps));
     return nullptr;
   }
@@ -82,7 +82,7 @@ void Scene::ForEachActor(std::function<void(Actor&)> const& fn) const {
 bool Scene::DestroyActor(ActorHandle handle, Error& error) {
   Actor* actor = actors_.Get(handle);
   if (!actor) {
-    error.Set(ErrorCode::kInvalidHandle, "DestroyActor: actor handle " + HandleText(handle) +
+    error.Set(ErrorCode::InvalidHandle, "DestroyActor: actor handle " + HandleText(handle) +
                                              " is null or stale");
     return false;
   }
@@ -107,12 +107,12 @@ bool Scene::DestroyActor(ActorHandle handle, Error& error) {
 RigidActor* Scene::GetRigidActor(ActorHandle handle, std::string_view field, Error& error) const {
   Actor* actor = actors_.Get(handle);
   if (!actor) {
-    error.Set(ErrorCode::kInvalidHandle,
+    error.Set(ErrorCode::InvalidHandle,
               std::string(field) + ": actor handle " + HandleText(handle) + " is null or stale");
     return nullptr;
   }
-  if (actor->GetType() != ActorType::kRigid) {
-    error.Set(ErrorCode::kInvalidHandle, std::string(field) + ": actor " + HandleText(handle) +
+  if (actor->GetType() != ActorType::Rigid) {
+    error.Set(ErrorCode::InvalidHandle, std::string(field) + ": actor " + HandleText(handle) +
                                              " is a " + std::string(ToString(actor->GetType())) +
                                              " actor, expected a rigid actor");
     return nullptr;
@@ -146,7 +146,7 @@ Constraint* Scene::CreateRigidSphericalJointConstraint(RigidSphericalJointConstr
   RigidActor* b = GetRigidActor(p.actorB, "RigidSphericalJointConstraintParams.actorB", error);
   if (!b) return nullptr;
   if (a == b) {
-    error.Set(ErrorCode::kInvalidArgument,
+    error.Set(ErrorCode::InvalidArgument,
               "RigidSphericalJointConstraintParams.actorB must differ from actorA, both are " +
                   HandleText(p.actorA));
     return nullptr;
@@ -179,7 +179,7 @@ void Scene::ForEachConstraint(std::function<void(Constraint&)> const& fn) const 
 bool Scene::DestroyConstraint(ConstraintHandle handle, Error& error) {
   Constraint* c = constraints_.Get(handle);
   if (!c) {
-    error.Set(ErrorCode::kInvalidHandle, "DestroyConstraint: constraint handle {index " +
+    error.Set(ErrorCode::InvalidHandle, "DestroyConstraint: constraint handle {index " +
                                              std::to_string(handle.index) + ", generation " +
                                              std::to_string(handle.generation) +
                                              "} is null or stale");
@@ -195,7 +195,7 @@ bool Scene::DestroyConstraint(Constraint* constraint, Error& error) {
   // look the pointer up among live constraints instead of dereferencing it
   auto it = std::find(constraintOrder_.begin(), constraintOrder_.end(), constraint);
   if (constraint == nullptr || it == constraintOrder_.end()) {
-    error.Set(ErrorCode::kInvalidHandle,
+    error.Set(ErrorCode::InvalidHandle,
               "DestroyConstraint: the constraint pointer is null or not a live constraint of this scene");
     return false;
   }

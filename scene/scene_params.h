@@ -23,10 +23,10 @@ struct NewtonParams {
 
 struct SceneParams {
   Real3 gravity{0, -9.81, 0};  ///< [m/s²]; y is up
-  IntegratorType integrator = IntegratorType::kBackwardEuler;
+  IntegratorType integrator = IntegratorType::BackwardEuler;
   NewtonParams newton;
-  LinearSolverType linearSolver = LinearSolverType::kAuto;
-  OrderingMethod ordering = OrderingMethod::kMetis;
+  LinearSolverType linearSolver = LinearSolverType::Auto;
+  OrderingMethod ordering = OrderingMethod::Metis;
 };
 
 /// Counters since the scene was created, and figures of the last step.

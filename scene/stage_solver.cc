@@ -52,10 +52,10 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
 }
 
 bool StageSolver::SetLinearSolver(LinearSolverType type, Error& error) {
-  if (type != LinearSolverType::kAuto) {
+  if (type != LinearSolverType::Auto) {
     auto available = AvailableLinearSolvers();
     if (std::find(available.begin(), available.end(), type) == available.end()) {
-      error.Set(ErrorCode::kInvalidArgument,
+      error.Set(ErrorCode::InvalidArgument,
                 "linearSolver " + std::string(ToString(type)) + " is not compiled into this build");
       return false;
     }
@@ -76,7 +76,7 @@ bool StageSolver::EnsureSolverReady(SceneStats& stats, Error& error) {
     LinearSolveResult result = solver_->Analyze(matrix);
     stats.analysisSeconds += SecondsSince(start);
     if (!result.Ok()) {
-      error.Set(ErrorCode::kLinearSolverFailed, solver_->GetDescription() +
+      error.Set(ErrorCode::LinearSolverFailed, solver_->GetDescription() +
                                                     " symbolic analysis failed: " + result.reason);
       return false;
     }
@@ -108,7 +108,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
 
   real energy = TotalEnergy(actors, constraints, h);
   if (!std::isfinite(energy)) {
-    error.Set(ErrorCode::kNonFiniteState,
+    error.Set(ErrorCode::NonFiniteState,
               Where(stageIndex, 0) + ": the incremental potential is not finite at the stage start");
     return false;
   }
@@ -131,7 +131,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     stats.assemblySeconds += SecondsSince(start);
     stats.gradientNorm = gradient_.lpNorm<Eigen::Infinity>();
     if (!std::isfinite(stats.gradientNorm)) {
-      error.Set(ErrorCode::kNonFiniteState, Where(stageIndex, iteration) + ": the gradient is not finite");
+      error.Set(ErrorCode::NonFiniteState, Where(stageIndex, iteration) + ": the gradient is not finite");
       return false;
     }
 
@@ -151,14 +151,14 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       stats.linearIterations += result.iterations;
     }
     if (fault_.failLinearSolveAtIteration == iteration && result.Ok()) {
-      result.status = LinearSolveStatus::kBackendError;
+      result.status = LinearSolveStatus::BackendError;
       result.reason = "failure injected by a test";
     }
     if (!result.Ok()) {
       std::string detail = result.reason;
-      if (result.status == LinearSolveStatus::kNotPositiveDefinite)
+      if (result.status == LinearSolveStatus::NotPositiveDefinite)
         detail = "matrix not positive definite at column " + std::to_string(result.failingColumn);
-      error.Set(ErrorCode::kLinearSolverFailed, Where(stageIndex, iteration) + ": linear solver " +
+      error.Set(ErrorCode::LinearSolverFailed, Where(stageIndex, iteration) + ": linear solver " +
                                                     solver_->GetDescription() + " failed (" +
                                                     std::string(ToString(result.status)) + "): " + detail);
       return false;
@@ -167,7 +167,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     // velocity-scaled step norm
     real const stepNorm = delta_.lpNorm<Eigen::Infinity>() / h;
     if (!std::isfinite(stepNorm)) {
-      error.Set(ErrorCode::kNonFiniteState, Where(stageIndex, iteration) + ": the Newton step is not finite");
+      error.Set(ErrorCode::NonFiniteState, Where(stageIndex, iteration) + ": the Newton step is not finite");
       return false;
     }
 
@@ -199,7 +199,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       if (!accepted) {
         for (Actor* actor : actors) actor->RestoreIterate();
         stats.lineSearchSeconds += SecondsSince(start);
-        error.Set(ErrorCode::kNewtonFailed,
+        error.Set(ErrorCode::NewtonFailed,
                   Where(stageIndex, iteration) +
                       ": line search found no decrease of the incremental potential after " +
                       std::to_string(newton.maxLineSearchSteps) + " halvings (step norm " +
@@ -213,7 +213,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     bool finite = true;
     for (Actor* actor : actors) finite = finite && actor->IsStateFinite();
     if (!finite) {
-      error.Set(ErrorCode::kNonFiniteState, Where(stageIndex, iteration) + ": the configuration is not finite");
+      error.Set(ErrorCode::NonFiniteState, Where(stageIndex, iteration) + ": the configuration is not finite");
       return false;
     }
 
@@ -223,7 +223,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       return true;
     }
   }
-  error.Set(ErrorCode::kNewtonFailed,
+  error.Set(ErrorCode::NewtonFailed,
             Where(stageIndex, newton.maxIterations) + ": Newton did not converge within " +
                 std::to_string(newton.maxIterations) + " iterations (gradient norm " +
                 std::to_string(stats.gradientNorm) + ", tolerance " +

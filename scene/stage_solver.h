@@ -56,7 +56,7 @@ class StageSolver {
   bool EnsureSolverReady(SceneStats& stats, Error& error);
 
   HessianAssembler assembler_;
-  LinearSolverType requestedSolver_ = LinearSolverType::kAuto;
+  LinearSolverType requestedSolver_ = LinearSolverType::Auto;
   std::unique_ptr<LinearSolver> solver_;
   ConstraintWorkspace constraintWorkspace_;
   DynamicArray<int> firstContributor_;  ///< per actor, then per constraint

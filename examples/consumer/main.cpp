@@ -65,7 +65,7 @@ int main() {
   check(scene->GetStats().patternBuilds == 1, "pattern built once");
 
   // bad input is an Error, not a crash
-  check(!j->SetStiffness(-1_r, error) && error.GetCode() == ErrorCode::kInvalidArgument,
+  check(!j->SetStiffness(-1_r, error) && error.GetCode() == ErrorCode::InvalidArgument,
         "negative stiffness is rejected");
 
   std::printf("%s\n", failures == 0 ? "consumer: ok" : "consumer: WRONG RESULTS");

@@ -241,8 +241,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i < a.size; ++i) b[i] = 1.0 + 0.01 * i;
 
     Timing dense, cholmod;
-    if (!Measure(LinearSolverType::kDense, a, b, batchSeconds, dense)) return 1;
-    if (!Measure(LinearSolverType::kCholmod, a, b, batchSeconds, cholmod)) return 1;
+    if (!Measure(LinearSolverType::Dense, a, b, batchSeconds, dense)) return 1;
+    if (!Measure(LinearSolverType::Cholmod, a, b, batchSeconds, cholmod)) return 1;
     if (dense.residual > 1e-10 || cholmod.residual > 1e-10) {
       std::fprintf(stderr, "n = %d: residual dense %.2e, CHOLMOD %.2e\n", a.size, dense.residual,
                    cholmod.residual);

@@ -15,7 +15,7 @@ double FactorNonzeros(int n, OrderingMethod ordering) {
   SceneParams params;
   params.gravity = Real3::Zero();
   params.ordering = ordering;
-  params.linearSolver = LinearSolverType::kCholmod;
+  params.linearSolver = LinearSolverType::Cholmod;
   auto scene = MakeScene(params);
   DynamicArray<RigidActor*> bodies;
   for (int i = 0; i < n; ++i)
@@ -49,8 +49,8 @@ double FactorNonzeros(int n, OrderingMethod ordering) {
 
 TEST_CASE("METIS ordering beats the natural ordering on a 1000-body lattice", "[assembly][ordering]") {
   int const n = 10;
-  double const metis = FactorNonzeros(n, OrderingMethod::kMetis);
-  double const natural = FactorNonzeros(n, OrderingMethod::kNatural);
+  double const metis = FactorNonzeros(n, OrderingMethod::Metis);
+  double const natural = FactorNonzeros(n, OrderingMethod::Natural);
   std::cout << "lattice " << n << "^3 bodies: nnz(L) METIS = " << metis
             << ", natural = " << natural << " (ratio " << natural / metis << ")\n";
   REQUIRE(metis > 0);

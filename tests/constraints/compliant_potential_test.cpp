@@ -34,14 +34,14 @@ constexpr real kStageDuration = 1e-2;  // h
 constexpr real kFdStep = 1e-6;
 constexpr real kResidualTol = 1e-6;
 
-enum class Type { kSphericalJoint, kPivotPosition };
+enum class Type { SphericalJoint, PivotPosition };
 
 char const* Name(Type type) {
-  return type == Type::kSphericalJoint ? "RigidSphericalJoint" : "RigidPivotPosition";
+  return type == Type::SphericalJoint ? "RigidSphericalJoint" : "RigidPivotPosition";
 }
 
 Constraint* MakeConstraint(Type type, RigidPair& pair, CompliantParams const& compliance) {
-  return type == Type::kSphericalJoint ? MakeSphericalJoint(pair, compliance)
+  return type == Type::SphericalJoint ? MakeSphericalJoint(pair, compliance)
                                        : MakePivotPosition(pair, compliance);
 }
 
@@ -53,7 +53,7 @@ internal::HessianAssembler MakeAssembler(Scene const& scene, Constraint const& c
   DynamicArray<DynamicArray<int>> contributors{ConstraintTestAccess::Dofs(c)};
   Error error;
   bool const ok = assembler.Analyze(scene.GetNumDofs(), blockSizes, contributors,
-                                    OrderingMethod::kNatural, error);
+                                    OrderingMethod::Natural, error);
   INFO(error.ToString());
   REQUIRE(ok);
   return assembler;
@@ -98,7 +98,7 @@ real RampDerivative(real x, real s) { return x < s ? 2 * x / s - x * x / (s * s)
 
 TEST_CASE("compliant residual matches central differences of the incremental potential",
           "[constraints][compliant][derivatives]") {
-  Type const type = GENERATE(Type::kSphericalJoint, Type::kPivotPosition);
+  Type const type = GENERATE(Type::SphericalJoint, Type::PivotPosition);
   // saturation off, on with ‖g‖ below ḡ, on with ‖g‖ above ḡ
   real const saturation = GENERATE(-1.0, 5.0, 0.05);
   CAPTURE(Name(type), saturation);
@@ -115,7 +115,7 @@ TEST_CASE("compliant residual matches central differences of the incremental pot
 
   // between steps the target moves (no UpdateOldTarget): the stage start
   // value differences against the old target p̂⁰ = kTargetPosition
-  bool const hasTarget = type == Type::kPivotPosition;
+  bool const hasTarget = type == Type::PivotPosition;
   VectorX const gStartExpected = Deviation(*c);  // g(q⁰, p̂⁰)
   Error error;
   if (hasTarget) REQUIRE(c->SetTargetPosition(kTargetPosition + Real3(0.05, -0.03, 0.02), error));
@@ -264,7 +264,7 @@ TEST_CASE("saturated elastic term: kappa(0) = 2k, dU/dx = k gbar rho'(x), force 
 
 TEST_CASE("Gauss-Newton Hessian (kappa + d/h) JtJ is symmetric PSD",
           "[constraints][compliant][hessian]") {
-  Type const type = GENERATE(Type::kSphericalJoint, Type::kPivotPosition);
+  Type const type = GENERATE(Type::SphericalJoint, Type::PivotPosition);
   real const saturation = GENERATE(-1.0, 0.05);
   CAPTURE(Name(type), saturation);
   CompliantParams const compliance{.stiffness = 150, .damping = 4, .saturation = saturation};
@@ -306,7 +306,7 @@ TEST_CASE("Gauss-Newton Hessian (kappa + d/h) JtJ is symmetric PSD",
 
 TEST_CASE("Gauss-Newton Hessian equals the finite-difference Jacobian of the residual at g = 0",
           "[constraints][compliant][hessian][derivatives]") {
-  Type const type = GENERATE(Type::kSphericalJoint, Type::kPivotPosition);
+  Type const type = GENERATE(Type::SphericalJoint, Type::PivotPosition);
   // with saturation κ(0) = 2k for any ḡ: the check also pins the limit. ḡ
   // is large because the saturated residual is only C¹ at g = 0: its
   // central difference errs by ~k ε/ḡ (the −k‖g‖g/ḡ term)
@@ -324,7 +324,7 @@ TEST_CASE("Gauss-Newton Hessian equals the finite-difference Jacobian of the res
 
   // satisfy the constraint (exactly for the pivot, to round-off for the
   // joint), then start the stage there so that g⁰ = 0 as well
-  if (type == Type::kPivotPosition) {
+  if (type == Type::PivotPosition) {
     REQUIRE(c->SetTargetPosition(pair.a->TransformPoint(kPivotA), error));
     REQUIRE(c->UpdateOldTarget(error));
   } else {

@@ -18,7 +18,7 @@ using test::Laplacian2d;
 
 TEST_CASE("CHOLMOD reports nnz(L), flops and what ran", "[linsolve][cholmod]") {
   CholmodSolver solver;
-  REQUIRE(solver.GetOrdering() == CholmodOrdering::kGiven);
+  REQUIRE(solver.GetOrdering() == CholmodOrdering::Given);
   REQUIRE(solver.GetFactorNonzeros() == -1);
   REQUIRE(solver.GetFactorFlops() == -1);
   REQUIRE(solver.GetDescription().find("not analyzed") != std::string::npos);
@@ -62,8 +62,8 @@ TEST_CASE("CHOLMOD factors in the given order unless told otherwise", "[linsolve
   // METIS) finds much less fill, so equal counts would mean the option was
   // ignored
   SparseSymmetricMatrix const a = Laplacian2d(20, 20, 0.1);
-  CholmodSolver given(CholmodOrdering::kGiven);
-  CholmodSolver own(CholmodOrdering::kCholmodDefault);
+  CholmodSolver given(CholmodOrdering::Given);
+  CholmodSolver own(CholmodOrdering::CholmodDefault);
   REQUIRE(given.Analyze(a).Ok());
   REQUIRE(own.Analyze(a).Ok());
   CAPTURE(given.GetFactorNonzeros(), own.GetFactorNonzeros(), own.GetDescription());
@@ -105,7 +105,7 @@ TEST_CASE("CHOLMOD's failing column is mapped back through its postorder",
     if (positionInL != column) ++columnsThatMove;
     LinearSolveResult const result = solver.Factorize(test::WithDiagonal(a, column, -2));
     CAPTURE(column, positionInL, result.reason);
-    REQUIRE(result.status == LinearSolveStatus::kNotPositiveDefinite);
+    REQUIRE(result.status == LinearSolveStatus::NotPositiveDefinite);
     REQUIRE(result.failingColumn == column);
   }
   REQUIRE(columnsThatMove > a.size / 2);

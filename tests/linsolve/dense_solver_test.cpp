@@ -31,7 +31,7 @@ TEST_CASE("the dense solver's failing column on both code paths", "[linsolve][de
     DenseCholeskySolver solver;
     REQUIRE(solver.Analyze(a).Ok());
     LinearSolveResult const result = solver.Factorize(test::WithDiagonal(a, failing, -0.5));
-    REQUIRE(result.status == LinearSolveStatus::kNotPositiveDefinite);
+    REQUIRE(result.status == LinearSolveStatus::NotPositiveDefinite);
     REQUIRE(result.failingColumn == failing);
   }
 }

@@ -170,7 +170,7 @@ TEST_CASE("calls out of order are refused with kInvalidState", "[linsolve][state
 
   auto const requireInvalidState = [](LinearSolveResult const& result) {
     CAPTURE(ToString(result.status), result.reason);
-    REQUIRE(result.status == LinearSolveStatus::kInvalidState);
+    REQUIRE(result.status == LinearSolveStatus::InvalidState);
     REQUIRE(!result.Ok());
     REQUIRE(!result.reason.empty());
   };
@@ -217,7 +217,7 @@ TEST_CASE("calls out of order are refused with kInvalidState", "[linsolve][state
     REQUIRE(solver->Analyze(a).Ok());
     REQUIRE(solver->Factorize(a).Ok());
     LinearSolveResult const failed = solver->Factorize(WithDiagonal(a, 3, -1));
-    REQUIRE(failed.status == LinearSolveStatus::kNotPositiveDefinite);
+    REQUIRE(failed.status == LinearSolveStatus::NotPositiveDefinite);
     requireInvalidState(solver->Solve(View(b), View(x)));
   }
 }
@@ -230,7 +230,7 @@ TEST_CASE("bad input is refused with kInvalidInput", "[linsolve][input]") {
   SparseSymmetricMatrix const a = Laplacian2d(4, 4, 0.1);
   auto const requireInvalidInput = [](LinearSolveResult const& result) {
     CAPTURE(ToString(result.status), result.reason);
-    REQUIRE(result.status == LinearSolveStatus::kInvalidInput);
+    REQUIRE(result.status == LinearSolveStatus::InvalidInput);
     REQUIRE(!result.reason.empty());
   };
 
@@ -308,10 +308,10 @@ TEST_CASE("a matrix that is not positive definite reports its failing column",
       CAPTURE(column, diagonal);
       LinearSolveResult const result = solver->Factorize(WithDiagonal(a, column, diagonal));
       CAPTURE(result.reason);
-      REQUIRE(result.status == LinearSolveStatus::kNotPositiveDefinite);
+      REQUIRE(result.status == LinearSolveStatus::NotPositiveDefinite);
       REQUIRE(result.failingColumn == column);
       REQUIRE(!result.reason.empty());
-      REQUIRE(solver->Solve(View(b), View(x)).status == LinearSolveStatus::kInvalidState);
+      REQUIRE(solver->Solve(View(b), View(x)).status == LinearSolveStatus::InvalidState);
     }
     // the same analysis recovers with SPD values
     REQUIRE(solver->Factorize(a).Ok());
@@ -336,18 +336,18 @@ TEST_CASE("the factory lists, resolves and creates backends", "[linsolve][factor
   auto const has = [&](LinearSolverType type) {
     return std::find(available.begin(), available.end(), type) != available.end();
   };
-  REQUIRE(has(LinearSolverType::kDense));
-  REQUIRE(has(LinearSolverType::kCholmod) == (SUPERDEX_HAS_CHOLMOD != 0));
-  REQUIRE(!has(LinearSolverType::kAuto));
+  REQUIRE(has(LinearSolverType::Dense));
+  REQUIRE(has(LinearSolverType::Cholmod) == (SUPERDEX_HAS_CHOLMOD != 0));
+  REQUIRE(!has(LinearSolverType::Auto));
 
   SECTION("kAuto picks dense up to kDenseSolverMaxSize") {
     REQUIRE(kDenseSolverMaxSize > 0);
-    REQUIRE(ResolveLinearSolverType(LinearSolverType::kAuto, 1) == LinearSolverType::kDense);
-    REQUIRE(ResolveLinearSolverType(LinearSolverType::kAuto, kDenseSolverMaxSize) ==
-            LinearSolverType::kDense);
+    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, 1) == LinearSolverType::Dense);
+    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, kDenseSolverMaxSize) ==
+            LinearSolverType::Dense);
     LinearSolverType const above =
-        SUPERDEX_HAS_CHOLMOD ? LinearSolverType::kCholmod : LinearSolverType::kDense;
-    REQUIRE(ResolveLinearSolverType(LinearSolverType::kAuto, kDenseSolverMaxSize + 1) == above);
+        SUPERDEX_HAS_CHOLMOD ? LinearSolverType::Cholmod : LinearSolverType::Dense;
+    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, kDenseSolverMaxSize + 1) == above);
     for (LinearSolverType type : available) {
       REQUIRE(ResolveLinearSolverType(type, 1) == type);
       REQUIRE(ResolveLinearSolverType(type, 100000) == type);
@@ -355,24 +355,24 @@ TEST_CASE("the factory lists, resolves and creates backends", "[linsolve][factor
   }
   SECTION("kAuto and unknown values are not creatable") {
     Error error;
-    REQUIRE(CreateLinearSolver(LinearSolverType::kAuto, error) == nullptr);
-    REQUIRE(error.GetCode() == ErrorCode::kInvalidArgument);
+    REQUIRE(CreateLinearSolver(LinearSolverType::Auto, error) == nullptr);
+    REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
     REQUIRE(error.GetMessage().find("Auto") != std::string::npos);
     error.Clear();
     REQUIRE(CreateLinearSolver(static_cast<LinearSolverType>(42), error) == nullptr);
-    REQUIRE(error.GetCode() == ErrorCode::kInvalidArgument);
+    REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
     REQUIRE(error.GetMessage().find("42") != std::string::npos);
   }
   SECTION("names") {
-    REQUIRE(ToString(LinearSolverType::kCholmod) == "Cholmod");
-    REQUIRE(ToString(LinearSolverType::kDense) == "Dense");
-    REQUIRE(ToString(LinearSolverType::kAuto) == "Auto");
-    REQUIRE(ToString(LinearSolveStatus::kOk) == "Ok");
-    REQUIRE(ToString(LinearSolveStatus::kNotPositiveDefinite) == "NotPositiveDefinite");
-    REQUIRE(ToString(LinearSolveStatus::kNotConverged) == "NotConverged");
-    REQUIRE(ToString(LinearSolveStatus::kBackendError) == "BackendError");
-    REQUIRE(ToString(LinearSolveStatus::kInvalidState) == "InvalidState");
-    REQUIRE(ToString(LinearSolveStatus::kInvalidInput) == "InvalidInput");
+    REQUIRE(ToString(LinearSolverType::Cholmod) == "Cholmod");
+    REQUIRE(ToString(LinearSolverType::Dense) == "Dense");
+    REQUIRE(ToString(LinearSolverType::Auto) == "Auto");
+    REQUIRE(ToString(LinearSolveStatus::Ok) == "Ok");
+    REQUIRE(ToString(LinearSolveStatus::NotPositiveDefinite) == "NotPositiveDefinite");
+    REQUIRE(ToString(LinearSolveStatus::NotConverged) == "NotConverged");
+    REQUIRE(ToString(LinearSolveStatus::BackendError) == "BackendError");
+    REQUIRE(ToString(LinearSolveStatus::InvalidState) == "InvalidState");
+    REQUIRE(ToString(LinearSolveStatus::InvalidInput) == "InvalidInput");
   }
 }
 

@@ -135,7 +135,7 @@ TEST_CASE("the allocation counter sees and attributes allocations", "[linsolve][
     DynamicArray<LinearSolverType> const types = AvailableLinearSolvers();
     REQUIRE(!types.empty());
     Error error;
-    auto solver = CreateLinearSolver(LinearSolverType::kAuto, error);
+    auto solver = CreateLinearSolver(LinearSolverType::Auto, error);
     REQUIRE(error);
   });
   CAPTURE(counts.total, counts.superdex);

@@ -28,11 +28,11 @@ using namespace superdex;
 using namespace superdex::test;
 
 TEST_CASE("steps after the first allocate nothing", "[scene][allocation]") {
-  LinearSolverType const solver = GENERATE(LinearSolverType::kCholmod, LinearSolverType::kDense);
+  LinearSolverType const solver = GENERATE(LinearSolverType::Cholmod, LinearSolverType::Dense);
   CAPTURE(ToString(solver));
   SceneParams params;
   params.linearSolver = solver;
-  params.integrator = IntegratorType::kBdf2;
+  params.integrator = IntegratorType::Bdf2;
   Chain chain = MakeChain(12, params);
   Error error;
   Constraint* first = nullptr;

@@ -42,12 +42,12 @@ TEST_CASE("negative or non-finite stiffness and damping are rejected", "[scene][
   CAPTURE(bad);
   Error error;
   REQUIRE_FALSE(p.pin->SetStiffness(bad, error));
-  REQUIRE(error.GetCode() == ErrorCode::kInvalidArgument);
+  REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
   REQUIRE(Mentions(error, "stiffness"));
   REQUIRE(p.pin->GetStiffness() == 100);
   error.Clear();
   REQUIRE_FALSE(p.pin->SetDamping(bad, error));
-  REQUIRE(error.GetCode() == ErrorCode::kInvalidArgument);
+  REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
   REQUIRE(Mentions(error, "damping"));
   REQUIRE(p.pin->GetDamping() == 1);
   error.Clear();
@@ -79,7 +79,7 @@ TEST_CASE("non-positive or non-finite dt is rejected", "[scene][input]") {
   CAPTURE(bad);
   Error error;
   REQUIRE_FALSE(p.scene->Step(bad, error));
-  REQUIRE(error.GetCode() == ErrorCode::kInvalidArgument);
+  REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
   REQUIRE(Mentions(error, "dt"));
   REQUIRE(p.scene->GetTime() == time);
   REQUIRE(p.body->GetPosition() == position);
@@ -92,7 +92,7 @@ TEST_CASE("a non-unit quaternion is rejected", "[scene][input]") {
   RigidActorParams params;
   params.rotation = bad;
   REQUIRE_FALSE(p.scene->CreateRigidActor(params, error));
-  REQUIRE(error.GetCode() == ErrorCode::kInvalidArgument);
+  REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
   REQUIRE(Mentions(error, "RigidActorParams.rotation"));
   REQUIRE(p.scene->GetNumActors() == 1);
   error.Clear();
@@ -110,7 +110,7 @@ TEST_CASE("non-positive mass or inertia is rejected", "[scene][input]") {
     RigidActorParams params;
     params.mass = bad;
     REQUIRE_FALSE(scene->CreateRigidActor(params, error));
-    REQUIRE(error.GetCode() == ErrorCode::kInvalidArgument);
+    REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
     REQUIRE(Mentions(error, "RigidActorParams.mass"));
   }
   SECTION("inertia") {
@@ -118,7 +118,7 @@ TEST_CASE("non-positive mass or inertia is rejected", "[scene][input]") {
     RigidActorParams params;
     params.inertia = bad;
     REQUIRE_FALSE(scene->CreateRigidActor(params, error));
-    REQUIRE(error.GetCode() == ErrorCode::kInvalidArgument);
+    REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
     REQUIRE(Mentions(error, "RigidActorParams.inertia"));
   }
   REQUIRE(scene->GetNumActors() == 0);
@@ -144,21 +144,21 @@ TEST_CASE("stale handles are detected", "[scene][input]") {
   REQUIRE(scene.GetActor(actor) == nullptr);
 
   REQUIRE_FALSE(scene.DestroyActor(actor, error));
-  REQUIRE(error.GetCode() == ErrorCode::kInvalidHandle);
+  REQUIRE(error.GetCode() == ErrorCode::InvalidHandle);
   error.Clear();
   REQUIRE_FALSE(scene.DestroyConstraint(pin, error));
-  REQUIRE(error.GetCode() == ErrorCode::kInvalidHandle);
+  REQUIRE(error.GetCode() == ErrorCode::InvalidHandle);
   error.Clear();
   RigidSphericalJointConstraintParams joint;
   joint.actorA = actor;
   joint.actorB = other->GetHandle();
   REQUIRE_FALSE(scene.CreateRigidSphericalJointConstraint(joint, error));
-  REQUIRE(error.GetCode() == ErrorCode::kInvalidHandle);
+  REQUIRE(error.GetCode() == ErrorCode::InvalidHandle);
   REQUIRE(Mentions(error, "actorA"));
   error.Clear();
   RigidPivotPositionConstraintParams pivot;  // a default (null) handle
   REQUIRE_FALSE(scene.CreateRigidPivotPositionConstraint(pivot, error));
-  REQUIRE(error.GetCode() == ErrorCode::kInvalidHandle);
+  REQUIRE(error.GetCode() == ErrorCode::InvalidHandle);
   REQUIRE(scene.GetNumActors() == 2);
   REQUIRE(scene.GetNumConstraints() == 0);
   StepOk(scene, 1e-3);
@@ -188,6 +188,6 @@ TEST_CASE("a joint between a body and itself is rejected", "[scene][input]") {
   joint.actorA = joint.actorB = p.body->GetHandle();
   Error error;
   REQUIRE_FALSE(p.scene->CreateRigidSphericalJointConstraint(joint, error));
-  REQUIRE(error.GetCode() == ErrorCode::kInvalidArgument);
+  REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
   REQUIRE(Mentions(error, "actorB"));
 }

@@ -54,7 +54,7 @@ real FitOrder(DynamicArray<real> const& dts, DynamicArray<real> const& errors) {
 
 TEST_CASE("backward Euler converges at order 1 and BDF2 at order 2", "[scene][integrator]") {
   auto const [integrator, expectedOrder] = GENERATE(
-      std::pair{IntegratorType::kBackwardEuler, 1.0}, std::pair{IntegratorType::kBdf2, 2.0});
+      std::pair{IntegratorType::BackwardEuler, 1.0}, std::pair{IntegratorType::Bdf2, 2.0});
   CAPTURE(ToString(integrator));
   DynamicArray<real> dts, errors;
   for (real dt : {1.0 / 100, 1.0 / 200, 1.0 / 400, 1.0 / 800, 1.0 / 1600}) {

@@ -6,8 +6,8 @@ using namespace superdex;
 using namespace superdex::test;
 
 TEST_CASE("a 20-body chain builds its pattern once over 200 steps", "[scene][assembly]") {
-  LinearSolverType const solver = GENERATE(LinearSolverType::kAuto, LinearSolverType::kCholmod,
-                                           LinearSolverType::kDense);
+  LinearSolverType const solver = GENERATE(LinearSolverType::Auto, LinearSolverType::Cholmod,
+                                           LinearSolverType::Dense);
   CAPTURE(ToString(solver));
   SceneParams params;
   params.linearSolver = solver;
@@ -48,10 +48,10 @@ TEST_CASE("switching the linear solver re-analyzes without rebuilding the patter
   Chain chain = MakeChain(20);
   Scene& scene = *chain.scene;
   Error error;
-  REQUIRE(scene.SetLinearSolver(LinearSolverType::kCholmod, error));
+  REQUIRE(scene.SetLinearSolver(LinearSolverType::Cholmod, error));
   StepOk(scene, 1e-3, 3);
   REQUIRE(scene.GetStats().linearSolver.find("CHOLMOD") != std::string::npos);
-  REQUIRE(scene.SetLinearSolver(LinearSolverType::kDense, error));
+  REQUIRE(scene.SetLinearSolver(LinearSolverType::Dense, error));
   StepOk(scene, 1e-3, 3);
   REQUIRE(scene.GetStats().patternBuilds == 1);
   REQUIRE(scene.GetStats().symbolicAnalyses == 2);

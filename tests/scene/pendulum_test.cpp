@@ -49,7 +49,7 @@ Pendulum MakePendulum(real angle, IntegratorType integrator) {
 }  // namespace
 
 TEST_CASE("compound pendulum swings at its analytic period", "[scene][pendulum]") {
-  IntegratorType const integrator = GENERATE(IntegratorType::kBackwardEuler, IntegratorType::kBdf2);
+  IntegratorType const integrator = GENERATE(IntegratorType::BackwardEuler, IntegratorType::Bdf2);
   CAPTURE(ToString(integrator));
   real const g = 9.81;
   real const expected =
@@ -73,7 +73,7 @@ TEST_CASE("compound pendulum swings at its analytic period", "[scene][pendulum]"
 }
 
 TEST_CASE("a body hanging at rest deviates by m g / k", "[scene][pendulum]") {
-  Pendulum p = MakePendulum(0, IntegratorType::kBackwardEuler);
+  Pendulum p = MakePendulum(0, IntegratorType::BackwardEuler);
   StepOk(*p.scene, kDt, 50);
   Real3 const deviation = ToReal3(p.pivot->GetDeviation());
   real const expected = kMass * 9.81 / kStiffness;

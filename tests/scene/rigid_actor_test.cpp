@@ -61,7 +61,7 @@ internal::HessianAssembler MakeAssembler(RigidActor const& body) {
   internal::HessianAssembler assembler;
   Error error;
   bool const ok = assembler.Analyze(RigidActor::kNumDofs, blockSizes, contributors,
-                                    OrderingMethod::kNatural, error);
+                                    OrderingMethod::Natural, error);
   INFO(error.ToString());
   REQUIRE(ok);
   return assembler;
@@ -113,7 +113,7 @@ TEST_CASE("rigid inertia gradient matches central differences of the stage energ
   auto body = MakeSpinningBody();
   Real3 const startPosition = body->GetPosition();
   Quat const startRotation = body->GetRotation();
-  ActorTestAccess::BeginStage(*body, internal::MakeStage(IntegratorType::kBackwardEuler, kStep, false),
+  ActorTestAccess::BeginStage(*body, internal::MakeStage(IntegratorType::BackwardEuler, kStep, false),
                               kGravity);
 
   // an iterate away from the stage's stationary point
@@ -141,7 +141,7 @@ TEST_CASE("at the stage's stationary point the rigid Hessian is the Jacobian of 
   Quat const startRotation = body->GetRotation();
   Real3 const startVelocity = body->GetLinearVelocity();
   Real3 const startBodyOmega = startRotation.conjugate() * body->GetAngularVelocity();
-  ActorTestAccess::BeginStage(*body, internal::MakeStage(IntegratorType::kBackwardEuler, kStep, false),
+  ActorTestAccess::BeginStage(*body, internal::MakeStage(IntegratorType::BackwardEuler, kStep, false),
                               kGravity);
   internal::HessianAssembler assembler = MakeAssembler(*body);
 
@@ -191,7 +191,7 @@ TEST_CASE("a torque-free body keeps its angular momentum vector and does not gai
           "[scene][rigid]") {
   SceneParams params;
   params.gravity = Real3::Zero();
-  params.integrator = IntegratorType::kBackwardEuler;
+  params.integrator = IntegratorType::BackwardEuler;
   params.newton.velocityTolerance = 1e-12;
   auto scene = MakeScene(params);
   RigidActorParams body;
@@ -237,7 +237,7 @@ TEST_CASE("a torque-free body keeps its angular momentum vector and does not gai
 TEST_CASE("free fall is backward Euler's discrete solution to round-off", "[scene][rigid]") {
   SceneParams params;
   params.gravity = kGravity;
-  params.integrator = IntegratorType::kBackwardEuler;
+  params.integrator = IntegratorType::BackwardEuler;
   params.newton.velocityTolerance = 1e-12;
   auto scene = MakeScene(params);
   RigidActor* actor = MakeRigid(*scene, RigidActorParams{});

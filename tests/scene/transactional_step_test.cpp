@@ -41,7 +41,7 @@ bool Contains(std::string const& text, std::string const& part) {
 
 TEST_CASE("a failed step changes nothing and says which stage failed and why", "[scene][transaction]") {
   SceneParams params;
-  params.integrator = IntegratorType::kBdf2;
+  params.integrator = IntegratorType::Bdf2;
   Chain chain = MakeChain(6, params);
   Scene& scene = *chain.scene;
   StepOk(scene, 1e-3, 10);  // the chain is moving, with integrator history
@@ -53,7 +53,7 @@ TEST_CASE("a failed step changes nothing and says which stage failed and why", "
     internal::SetFaultInjectionForTesting(scene, {.failLinearSolveAtIteration = 2});
     REQUIRE_FALSE(scene.Step(1e-3, error));
     CAPTURE(error.ToString());
-    REQUIRE(error.GetCode() == ErrorCode::kLinearSolverFailed);
+    REQUIRE(error.GetCode() == ErrorCode::LinearSolverFailed);
     REQUIRE(Contains(error.GetMessage(), "stage 0"));
     REQUIRE(Contains(error.GetMessage(), "Newton iteration 2"));
     REQUIRE(Contains(error.GetMessage(), "linear solver"));
@@ -73,7 +73,7 @@ TEST_CASE("a failed step changes nothing and says which stage failed and why", "
     DynamicArray<BodyState> const start = Capture(tight);
     REQUIRE_FALSE(tight.scene->Step(1e-2, error));
     CAPTURE(error.ToString());
-    REQUIRE(error.GetCode() == ErrorCode::kNewtonFailed);
+    REQUIRE(error.GetCode() == ErrorCode::NewtonFailed);
     REQUIRE(Contains(error.GetMessage(), "stage 0"));
     REQUIRE(Contains(error.GetMessage(), "did not converge"));
     REQUIRE(BitIdentical(start, Capture(tight)));
@@ -85,7 +85,7 @@ TEST_CASE("a failed step changes nothing and says which stage failed and why", "
     DynamicArray<BodyState> const huge = Capture(chain);
     REQUIRE_FALSE(scene.Step(1e-3, error));
     CAPTURE(error.ToString());
-    REQUIRE(error.GetCode() == ErrorCode::kNonFiniteState);
+    REQUIRE(error.GetCode() == ErrorCode::NonFiniteState);
     REQUIRE(Contains(error.GetMessage(), "stage 0"));
     REQUIRE(Contains(error.GetMessage(), "not finite"));
     REQUIRE(BitIdentical(huge, Capture(chain)));

@@ -86,9 +86,9 @@ TEST_CASE("UpdateOldTarget on a constraint without a target is an error", "[scen
   Constraint* joint = scene->CreateRigidSphericalJointConstraint(p, error);
   REQUIRE(joint);
   REQUIRE_FALSE(joint->UpdateOldTarget(error));
-  REQUIRE(error.GetCode() == ErrorCode::kNotSupported);
+  REQUIRE(error.GetCode() == ErrorCode::NotSupported);
   REQUIRE(error.GetMessage().find("RigidSphericalJoint") != std::string::npos);
   error.Clear();
   REQUIRE_FALSE(joint->SetTargetPosition(Real3::Zero(), error));
-  REQUIRE(error.GetCode() == ErrorCode::kNotSupported);
+  REQUIRE(error.GetCode() == ErrorCode::NotSupported);
 }
