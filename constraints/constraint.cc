@@ -92,10 +92,16 @@ bool Constraint::SetSaturation(real saturation, Error& error) {
   return true;
 }
 
+void Constraint::ReportNotSupported(std::string_view method, std::string_view why,
+                                    Error& error) const {
+  error.Set(ErrorCode::NotSupported, std::string(method) + " does not apply to a " +
+                                         std::string(ToString(type_)) + " constraint" +
+                                         std::string(why));
+}
+
 bool Constraint::RequireTarget(TargetKind kind, std::string_view method, Error& error) const {
   if (targetKind_ == kind) return true;
-  error.Set(ErrorCode::NotSupported, std::string(method) + " does not apply to a " +
-                                          std::string(ToString(type_)) + " constraint");
+  ReportNotSupported(method, "", error);
   return false;
 }
 
@@ -137,9 +143,7 @@ bool Constraint::SetTargetDof(real value, Error& error) {
 
 bool Constraint::UpdateOldTarget(Error& error) {
   if (targetKind_ == TargetKind::None) {
-    error.Set(ErrorCode::NotSupported,
-              "UpdateOldTarget does not apply to a " + std::string(ToString(type_)) +
-                  " constraint (it has no target)");
+    ReportNotSupported("UpdateOldTarget", " (it has no target)", error);
     return false;
   }
   oldTarget_ = target_;
@@ -168,9 +172,7 @@ bool Constraint::IsQuerySupported(QueryType type) const { return type == QueryTy
 
 bool Constraint::RegisterQuery(QueryType type, Error& error) {
   if (!IsQuerySupported(type)) {
-    error.Set(ErrorCode::NotSupported, "query " + std::string(ToString(type)) +
-                                            " is not supported by a " +
-                                            std::string(ToString(type_)) + " constraint");
+    ReportNotSupported("RegisterQuery(" + std::string(ToString(type)) + ")", "", error);
     return false;
   }
   forceQueryRegistered_ = true;
@@ -196,28 +198,22 @@ void Constraint::DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& uppe
   upper.assign(dimension_, std::numeric_limits<real>::infinity());
 }
 
-DynamicArray<real> Constraint::GetLimitMinValues(Error& error) const {
+DynamicArray<real> Constraint::GetLimits(bool upper, std::string_view method, Error& error) const {
   if (!isRange_) {
-    error.Set(ErrorCode::NotSupported, "GetLimitMinValues does not apply to a " +
-                                            std::string(ToString(type_)) +
-                                            " constraint (not a range type)");
+    ReportNotSupported(method, " (not a range type)", error);
     return {};
   }
-  DynamicArray<real> lower, upper;
-  DoGetLimits(lower, upper);
-  return lower;
+  DynamicArray<real> lower, upperValues;
+  DoGetLimits(lower, upperValues);
+  return upper ? upperValues : lower;
+}
+
+DynamicArray<real> Constraint::GetLimitMinValues(Error& error) const {
+  return GetLimits(false, "GetLimitMinValues", error);
 }
 
 DynamicArray<real> Constraint::GetLimitMaxValues(Error& error) const {
-  if (!isRange_) {
-    error.Set(ErrorCode::NotSupported, "GetLimitMaxValues does not apply to a " +
-                                            std::string(ToString(type_)) +
-                                            " constraint (not a range type)");
-    return {};
-  }
-  DynamicArray<real> lower, upper;
-  DoGetLimits(lower, upper);
-  return upper;
+  return GetLimits(true, "GetLimitMaxValues", error);
 }
 
 // ---- stage interface ----

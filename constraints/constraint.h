@@ -163,7 +163,10 @@ class Constraint {
   friend class internal::StageSolver;
   friend struct internal::ConstraintTestAccess;
 
+  /// Sets a NotSupported error: "<method> does not apply to a <type> constraint<why>".
+  void ReportNotSupported(std::string_view method, std::string_view why, Error& error) const;
   bool RequireTarget(TargetKind kind, std::string_view method, Error& error) const;
+  DynamicArray<real> GetLimits(bool upper, std::string_view method, Error& error) const;
   /// Recomputes global DoF indices from the actors' offsets.
   void RefreshDofs();
   void Evaluate(Span<real const> target, internal::ConstraintWorkspace& ws) const;
