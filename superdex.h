@@ -12,7 +12,12 @@
 #include <superdex/actors/rigid_actor.h>
 
 #include <superdex/constraints/constraint.h>
+#include <superdex/constraints/joint_rotation_range.h>
+#include <superdex/constraints/joint_rotation_tracking.h>
 #include <superdex/constraints/rigid_pivot_position.h>
+#include <superdex/constraints/rigid_pivot_rotation.h>
+#include <superdex/constraints/rigid_pivot_to_rigid_target.h>
+#include <superdex/constraints/rigid_prismatic_joint.h>
 #include <superdex/constraints/rigid_spherical_joint.h>
 
 #include <superdex/linsolve/linear_solver.h>

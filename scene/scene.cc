@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include <superdex/core/validate.h>
 #include <superdex/scene/stage_solver.h>
@@ -121,14 +122,50 @@ RigidActor* Scene::GetRigidActor(ActorHandle handle, std::string_view field, Err
 }
 
 namespace {
-bool CheckCompliantParams(real stiffness, real damping, real saturation, std::string_view type,
-                          Error& error) {
-  std::string const prefix = std::string(type) + "ConstraintParams.";
-  return internal::CheckNonNegative(stiffness, prefix + "stiffness", error) &&
-         internal::CheckNonNegative(damping, prefix + "damping", error) &&
-         internal::CheckFinite(saturation, prefix + "saturation", error);
+// stiffness and damping finite and >= 0, saturation finite (<= 0 disables)
+template <class Params>
+bool CheckCompliance(Params const& p, std::string_view paramsName, Error& error) {
+  std::string const prefix = std::string(paramsName) + ".";
+  return internal::CheckNonNegative(p.stiffness, prefix + "stiffness", error) &&
+         internal::CheckNonNegative(p.damping, prefix + "damping", error) &&
+         internal::CheckFinite(p.saturation, prefix + "saturation", error);
+}
+
+bool CheckField(Real3 const& v, std::string_view paramsName, std::string_view field, Error& error) {
+  return internal::CheckFinite(v, std::string(paramsName) + "." + std::string(field), error);
+}
+
+bool CheckField(Quat const& q, std::string_view paramsName, std::string_view field, Error& error) {
+  return internal::CheckUnitQuat(q, std::string(paramsName) + "." + std::string(field), error);
+}
+
+// lower <= upper componentwise, neither NaN (±∞ allowed: no bound)
+bool CheckLimits(real lower, real upper, std::string const& field, Error& error) {
+  if (std::isnan(lower) || std::isnan(upper) || lower > upper || lower == HUGE_VAL ||
+      upper == -HUGE_VAL) {
+    error.Set(ErrorCode::InvalidArgument,
+              field + " must satisfy lower <= upper with no NaN (lower = " + internal::Format(lower) +
+                  ", upper = " + internal::Format(upper) + ")");
+    return false;
+  }
+  return true;
 }
 }  // namespace
+
+bool Scene::GetRigidPair(ActorHandle actorA, ActorHandle actorB, std::string_view paramsName,
+                         RigidActor*& a, RigidActor*& b, Error& error) const {
+  std::string const prefix(paramsName);
+  a = GetRigidActor(actorA, prefix + ".actorA", error);
+  if (!a) return false;
+  b = GetRigidActor(actorB, prefix + ".actorB", error);
+  if (!b) return false;
+  if (a == b) {
+    error.Set(ErrorCode::InvalidArgument,
+              prefix + ".actorB must differ from actorA, both are " + HandleText(actorA));
+    return false;
+  }
+  return true;
+}
 
 Constraint* Scene::AddConstraint(std::unique_ptr<Constraint> constraint) {
   Constraint* raw = constraint.get();
@@ -140,34 +177,84 @@ Constraint* Scene::AddConstraint(std::unique_ptr<Constraint> constraint) {
 
 Constraint* Scene::CreateRigidSphericalJointConstraint(RigidSphericalJointConstraintParams const& p,
                                                        Error& error) {
-  constexpr std::string_view kType = "RigidSphericalJoint";
-  RigidActor* a = GetRigidActor(p.actorA, "RigidSphericalJointConstraintParams.actorA", error);
-  if (!a) return nullptr;
-  RigidActor* b = GetRigidActor(p.actorB, "RigidSphericalJointConstraintParams.actorB", error);
-  if (!b) return nullptr;
-  if (a == b) {
-    error.Set(ErrorCode::InvalidArgument,
-              "RigidSphericalJointConstraintParams.actorB must differ from actorA, both are " +
-                  HandleText(p.actorA));
-    return nullptr;
-  }
-  if (!internal::CheckFinite(p.localPosA, "RigidSphericalJointConstraintParams.localPosA", error) ||
-      !internal::CheckFinite(p.localPosB, "RigidSphericalJointConstraintParams.localPosB", error) ||
-      !CheckCompliantParams(p.stiffness, p.damping, p.saturation, kType, error))
+  constexpr std::string_view kParams = "RigidSphericalJointConstraintParams";
+  RigidActor *a, *b;
+  if (!GetRigidPair(p.actorA, p.actorB, kParams, a, b, error) ||
+      !CheckField(p.localPosA, kParams, "localPosA", error) ||
+      !CheckField(p.localPosB, kParams, "localPosB", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<RigidSphericalJointConstraint>(a, b, p));
 }
 
+Constraint* Scene::CreateRigidPrismaticJointConstraint(RigidPrismaticJointConstraintParams const& p,
+                                                       Error& error) {
+  constexpr std::string_view kParams = "RigidPrismaticJointConstraintParams";
+  RigidActor *a, *b;
+  if (!GetRigidPair(p.actorA, p.actorB, kParams, a, b, error) ||
+      !CheckField(p.jointFrame, kParams, "jointFrame", error) ||
+      !CheckField(p.referenceOffset, kParams, "referenceOffset", error) ||
+      !CheckLimits(p.lowerLimit, p.upperLimit, std::string(kParams) + ".lowerLimit/upperLimit", error) ||
+      !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<RigidPrismaticJointConstraint>(a, b, p));
+}
+
+Constraint* Scene::CreateJointRotationRangeConstraint(JointRotationRangeConstraintParams const& p,
+                                                      Error& error) {
+  constexpr std::string_view kParams = "JointRotationRangeConstraintParams";
+  RigidActor *a, *b;
+  if (!GetRigidPair(p.actorA, p.actorB, kParams, a, b, error) ||
+      !CheckField(p.jointFrame, kParams, "jointFrame", error) ||
+      !CheckField(p.referenceRotation, kParams, "referenceRotation", error) ||
+      !CheckCompliance(p, kParams, error))
+    return nullptr;
+  for (int j = 0; j < 3; ++j)
+    if (!CheckLimits(p.lowerLimits[j], p.upperLimits[j],
+                     std::string(kParams) + ".lowerLimits/upperLimits[" + std::to_string(j) + "]",
+                     error))
+      return nullptr;
+  return AddConstraint(std::make_unique<JointRotationRangeConstraint>(a, b, p));
+}
+
+Constraint* Scene::CreateJointRotationTrackingConstraint(
+    JointRotationTrackingConstraintParams const& p, Error& error) {
+  constexpr std::string_view kParams = "JointRotationTrackingConstraintParams";
+  RigidActor *a, *b;
+  if (!GetRigidPair(p.actorA, p.actorB, kParams, a, b, error) ||
+      !CheckField(p.jointFrame, kParams, "jointFrame", error) || !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<JointRotationTrackingConstraint>(a, b, p));
+}
+
 Constraint* Scene::CreateRigidPivotPositionConstraint(RigidPivotPositionConstraintParams const& p,
                                                       Error& error) {
-  constexpr std::string_view kType = "RigidPivotPosition";
-  RigidActor* a = GetRigidActor(p.actor, "RigidPivotPositionConstraintParams.actor", error);
-  if (!a) return nullptr;
-  if (!internal::CheckFinite(p.localPos, "RigidPivotPositionConstraintParams.localPos", error) ||
-      !internal::CheckFinite(p.position, "RigidPivotPositionConstraintParams.position", error) ||
-      !CheckCompliantParams(p.stiffness, p.damping, p.saturation, kType, error))
+  constexpr std::string_view kParams = "RigidPivotPositionConstraintParams";
+  RigidActor* a = GetRigidActor(p.actor, std::string(kParams) + ".actor", error);
+  if (!a || !CheckField(p.localPos, kParams, "localPos", error) ||
+      !CheckField(p.position, kParams, "position", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<RigidPivotPositionConstraint>(a, p));
+}
+
+Constraint* Scene::CreateRigidPivotToRigidTargetConstraint(
+    RigidPivotToRigidTargetConstraintParams const& p, Error& error) {
+  constexpr std::string_view kParams = "RigidPivotToRigidTargetConstraintParams";
+  RigidActor* a = GetRigidActor(p.actor, std::string(kParams) + ".actor", error);
+  if (!a || !CheckField(p.localPos, kParams, "localPos", error) ||
+      !CheckField(p.position, kParams, "position", error) ||
+      !CheckField(p.rotation, kParams, "rotation", error) || !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<RigidPivotToRigidTargetConstraint>(a, p));
+}
+
+Constraint* Scene::CreateRigidPivotRotationConstraint(RigidPivotRotationConstraintParams const& p,
+                                                      Error& error) {
+  constexpr std::string_view kParams = "RigidPivotRotationConstraintParams";
+  RigidActor* a = GetRigidActor(p.actor, std::string(kParams) + ".actor", error);
+  if (!a || !CheckField(p.localRotation, kParams, "localRotation", error) ||
+      !CheckField(p.rotation, kParams, "rotation", error) || !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<RigidPivotRotationConstraint>(a, p));
 }
 
 Constraint* Scene::GetConstraint(ConstraintHandle handle) const { return constraints_.Get(handle); }

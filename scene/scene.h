@@ -14,7 +14,12 @@
 
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/constraint.h>
+#include <superdex/constraints/joint_rotation_range.h>
+#include <superdex/constraints/joint_rotation_tracking.h>
 #include <superdex/constraints/rigid_pivot_position.h>
+#include <superdex/constraints/rigid_pivot_rotation.h>
+#include <superdex/constraints/rigid_pivot_to_rigid_target.h>
+#include <superdex/constraints/rigid_prismatic_joint.h>
 #include <superdex/constraints/rigid_spherical_joint.h>
 #include <superdex/core/error.h>
 #include <superdex/core/slot_map.h>
@@ -50,9 +55,23 @@ class Scene {
   int GetNumActors() const { return static_cast<int>(actorOrder_.size()); }
 
   // ---- constraints ----
+  // Each factory validates its params (live rigid actors, distinct for two-
+  // actor types; finite vectors; unit quaternions; stiffness and damping
+  // finite and >= 0; finite saturation; ordered limits) and returns nullptr
+  // with an Error naming the field on bad input.
   Constraint* CreateRigidSphericalJointConstraint(RigidSphericalJointConstraintParams const& params,
                                                   Error& error);
+  Constraint* CreateRigidPrismaticJointConstraint(RigidPrismaticJointConstraintParams const& params,
+                                                  Error& error);
+  Constraint* CreateJointRotationRangeConstraint(JointRotationRangeConstraintParams const& params,
+                                                 Error& error);
+  Constraint* CreateJointRotationTrackingConstraint(
+      JointRotationTrackingConstraintParams const& params, Error& error);
   Constraint* CreateRigidPivotPositionConstraint(RigidPivotPositionConstraintParams const& params,
+                                                 Error& error);
+  Constraint* CreateRigidPivotToRigidTargetConstraint(
+      RigidPivotToRigidTargetConstraintParams const& params, Error& error);
+  Constraint* CreateRigidPivotRotationConstraint(RigidPivotRotationConstraintParams const& params,
                                                  Error& error);
   /// The constraint, or nullptr for a null or stale handle.
   Constraint* GetConstraint(ConstraintHandle handle) const;
@@ -82,6 +101,9 @@ class Scene {
   Constraint* AddConstraint(std::unique_ptr<Constraint> constraint);
   /// A live rigid actor for `handle`, or nullptr with `error` naming `field`.
   RigidActor* GetRigidActor(ActorHandle handle, std::string_view field, Error& error) const;
+  /// Two live, distinct rigid actors for `actorA`/`actorB` of `params`.
+  bool GetRigidPair(ActorHandle actorA, ActorHandle actorB, std::string_view paramsName,
+                    RigidActor*& a, RigidActor*& b, Error& error) const;
   void OnTopologyChanged();
 
   SceneParams params_;

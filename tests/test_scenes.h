@@ -43,4 +43,22 @@ inline Chain MakeChain(int numBodies, SceneParams const& params = {}, real stiff
   return chain;
 }
 
+/// Holds `body` at its current pose with stiff RigidPivotToRigidTarget and
+/// RigidPivotRotation constraints: a fixed body up to a compliance of
+/// 1/stiffness.
+inline void Anchor(Scene& scene, RigidActor& body, real stiffness = 1e9) {
+  Error error;
+  RigidPivotToRigidTargetConstraintParams position;
+  position.actor = body.GetHandle();
+  position.position = body.GetPosition();
+  position.rotation = body.GetRotation();
+  position.stiffness = stiffness;
+  REQUIRE(scene.CreateRigidPivotToRigidTargetConstraint(position, error));
+  RigidPivotRotationConstraintParams rotation;
+  rotation.actor = body.GetHandle();
+  rotation.rotation = body.GetRotation();
+  rotation.stiffness = stiffness;
+  REQUIRE(scene.CreateRigidPivotRotationConstraint(rotation, error));
+}
+
 }  // namespace superdex::test

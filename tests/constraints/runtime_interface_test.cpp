@@ -120,3 +120,43 @@ TEST_CASE("limits do not apply to bilateral types", "[constraints][interface]") 
   REQUIRE(pin->SetTargetPosition(Real3(0, 1, 0), error));
   REQUIRE(ToReal3(pin->GetDeviation()).isApprox(Real3(0, -1, 0)));
 }
+
+TEST_CASE("a spherical joint's forces on its two bodies are equal and opposite",
+          "[constraints][interface]") {
+  auto scene = MakeScene();
+  RigidActorParams pa;
+  pa.inertia = Real3(0.1, 0.2, 0.3);
+  RigidActor* a = MakeRigid(*scene, pa);
+  RigidActorParams pb = pa;
+  pb.mass = 2;
+  pb.position = Real3(0.6, -0.8, 0.1);
+  RigidActor* b = MakeRigid(*scene, pb);
+  Error error;
+  RigidPivotPositionConstraintParams pin;
+  pin.actor = a->GetHandle();
+  pin.localPos = Real3(-0.3, 0, 0);
+  pin.position = a->TransformPoint(pin.localPos);
+  pin.stiffness = 1e6;
+  REQUIRE(scene->CreateRigidPivotPositionConstraint(pin, error));
+  RigidSphericalJointConstraintParams jp;
+  jp.actorA = a->GetHandle();
+  jp.actorB = b->GetHandle();
+  jp.localPosA = Real3(0.3, 0, 0);
+  jp.localPosB = b->GetRotation().conjugate() * (a->TransformPoint(jp.localPosA) - b->GetPosition());
+  jp.stiffness = 1e6;
+  jp.damping = 10;
+  Constraint* joint = scene->CreateRigidSphericalJointConstraint(jp, error);
+  REQUIRE(joint);
+  REQUIRE(joint->RegisterQuery(QueryType::ConstraintForce, error));
+  StepOk(*scene, 1e-3, 50);  // swinging: the joint carries a changing load
+  Span<real const> f = joint->GetForce(error);
+  REQUIRE(f.size() == 12);
+  Real3 const onA(f[0], f[1], f[2]), onB(f[6], f[7], f[8]);
+  CAPTURE(onA.transpose(), onB.transpose());
+  REQUIRE(onB.norm() > 1);
+  REQUIRE((onA + onB).norm() <= 1e-12 * onB.norm());
+  // each torque is the force's moment about that body's centre of mass
+  Real3 const armA = a->GetRotation() * jp.localPosA, armB = b->GetRotation() * jp.localPosB;
+  REQUIRE((Real3(f[3], f[4], f[5]) - armA.cross(onA)).norm() <= 1e-12 * onB.norm());
+  REQUIRE((Real3(f[9], f[10], f[11]) - armB.cross(onB)).norm() <= 1e-12 * onB.norm());
+}

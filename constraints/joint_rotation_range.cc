@@ -1,0 +1,54 @@
+#include <superdex/constraints/joint_rotation_range.h>
+
+#include <superdex/actors/rigid_actor.h>
+#include <superdex/constraints/rotation_residual.h>
+
+namespace superdex {
+
+JointRotationRangeConstraint::JointRotationRangeConstraint(
+    RigidActor* actorA, RigidActor* actorB, JointRotationRangeConstraintParams const& params)
+    : Constraint(Layout{.type = ConstraintType::JointRotationRange,
+                        .dimension = 3,
+                        .isRange = true,
+                        .actors = {actorA, actorB},
+                        .localDofs = {DynamicArray<int>{3, 4, 5}, DynamicArray<int>{3, 4, 5}}},
+                 {params.stiffness, params.damping, params.saturation}),
+      bodyA_(actorA),
+      bodyB_(actorB),
+      frameInA_((actorA->GetRotation().conjugate() * params.jointFrame).normalized()),
+      referenceRotation_(Quat::Identity()),
+      lowerLimits_(params.lowerLimits),
+      upperLimits_(params.upperLimits) {
+  referenceRotation_ = params.rangeAroundRest
+                           ? (frameInA_.conjugate() * actorA->GetRotation().conjugate() *
+                              actorB->GetRotation() * frameInA_)
+                                 .normalized()
+                           : params.referenceRotation.normalized();
+}
+
+Real3 JointRotationRangeConstraint::GetRelativeRotation() const {
+  // r_AB = Log((R_A R₀)ᵀ (R_B R₀ R_refᵀ))
+  return Log((bodyA_->GetRotation() * frameInA_).conjugate() *
+             (bodyB_->GetRotation() * frameInA_ * referenceRotation_.conjugate()));
+}
+
+void JointRotationRangeConstraint::DoEvaluate(Span<real const>, Eigen::Ref<VectorX> g,
+                                              Eigen::Ref<MatrixX> jacobian) const {
+  internal::RotationResidual const r = internal::EvaluateRotationResidual(
+      bodyA_->GetRotation() * frameInA_,
+      bodyB_->GetRotation() * frameInA_ * referenceRotation_.conjugate());
+  for (int j = 0; j < 3; ++j) {
+    real slope;
+    g[j] = internal::OneSidedViolation(r.value[j], lowerLimits_[j], upperLimits_[j], slope);
+    jacobian.block<1, 3>(j, 0) = -slope * r.derivativeQ.row(j);
+    jacobian.block<1, 3>(j, 3) = slope * r.derivativeQ.row(j);
+  }
+}
+
+void JointRotationRangeConstraint::DoGetLimits(DynamicArray<real>& lower,
+                                               DynamicArray<real>& upper) const {
+  lower.assign(lowerLimits_.begin(), lowerLimits_.end());
+  upper.assign(upperLimits_.begin(), upperLimits_.end());
+}
+
+}  // namespace superdex

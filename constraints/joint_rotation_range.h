@@ -1,0 +1,61 @@
+// JointRotationRange — limits the relative rotation of two rigid bodies with
+// independent lower/upper bounds per component, in the joint frame R₀ (stored
+// A-local), against a reference rotation R_ref:
+//
+//   r_AB = Log(R₀⁻¹ R_A⁻¹ R_B R₀ R_ref⁻¹)                       m = 3, n = 6
+//   g_j  = max(r_AB,j − u_j, l_j − r_AB,j, 0)   (one-sided violation)
+//   J    = s_j · row j of [ −D, D ],  D = J_l⁻¹(r_AB) (R_A R₀)ᵀ, s_j = ±1 or 0
+// Columns: A rotation increment, B rotation increment.
+//
+// By default (rangeAroundRest) R_ref is the relative rotation R₀⁻¹R_A⁻¹R_B R₀
+// observed at creation, so the bounds are relative to the rest pose. The
+// components are those of a rotation vector: independent bounds describe a
+// range of motion for moderate angles (rotations do not commute).
+// A range type: inactive — contributing nothing — while every component is
+// within its bounds now and at the stage start. Units: rad; stiffness N·m/rad.
+#pragma once
+
+#include <limits>
+
+#include <superdex/constraints/constraint.h>
+
+namespace superdex {
+
+class RigidActor;
+
+struct JointRotationRangeConstraintParams {
+  ActorHandle actorA;                   ///< a rigid actor
+  ActorHandle actorB;                   ///< a different rigid actor
+  Quat jointFrame = Quat::Identity();   ///< joint frame, world, at creation
+  /// l_j [rad], −∞ for no bound; each <= the matching upper limit
+  Real3 lowerLimits = Real3::Constant(-std::numeric_limits<real>::infinity());
+  /// u_j [rad], +∞ for no bound
+  Real3 upperLimits = Real3::Constant(std::numeric_limits<real>::infinity());
+  bool rangeAroundRest = true;              ///< R_ref = the creation-time relative rotation
+  Quat referenceRotation = Quat::Identity();///< R_ref when !rangeAroundRest
+  real stiffness = 0;                   ///< k >= 0 [N·m/rad]
+  real damping = 0;                     ///< d >= 0 [N·m·s/rad]
+  real saturation = -1;                 ///< ḡ [rad]; <= 0 disables
+};
+
+class JointRotationRangeConstraint final : public Constraint {
+ public:
+  JointRotationRangeConstraint(RigidActor* actorA, RigidActor* actorB,
+                               JointRotationRangeConstraintParams const& params);
+
+  /// r_AB, the measured relative rotation vector.
+  Real3 GetRelativeRotation() const;
+
+ private:
+  void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
+                  Eigen::Ref<MatrixX> jacobian) const override;
+  void DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& upper) const override;
+
+  RigidActor* bodyA_;
+  RigidActor* bodyB_;
+  Quat frameInA_;           ///< R₀
+  Quat referenceRotation_;  ///< R_ref
+  Real3 lowerLimits_, upperLimits_;
+};
+
+}  // namespace superdex

@@ -1,0 +1,47 @@
+// JointRotationTracking — drives the relative rotation of two rigid bodies
+// toward a target R̂ (orientation of B relative to A, in A's local frame):
+//
+//   g = Log((R_A R̂ R₀)⁻¹ R_B R₀)                                m = 3, n = 6
+//   J = [ −D, D ],  D = J_l⁻¹(g) (R_A R̂ R₀)ᵀ
+// Columns: A rotation increment, B rotation increment. R₀ is the joint frame
+// (given in world at creation, stored A-local).
+//
+// The target starts as the relative rotation R_A⁻¹R_B observed at creation (the
+// constraint starts satisfied) and is changed with SetTargetRotation — e.g. to
+// track measured joint angles, or, with stiff gains, to supply the rotational
+// restriction a RigidPrismaticJoint lacks. Units: rad; stiffness N·m/rad.
+#pragma once
+
+#include <superdex/constraints/constraint.h>
+
+namespace superdex {
+
+class RigidActor;
+
+struct JointRotationTrackingConstraintParams {
+  ActorHandle actorA;                  ///< a rigid actor
+  ActorHandle actorB;                  ///< a different rigid actor
+  Quat jointFrame = Quat::Identity();  ///< joint frame R₀, world, at creation
+  real stiffness = 0;                  ///< k >= 0 [N·m/rad]
+  real damping = 0;                    ///< d >= 0 [N·m·s/rad]
+  real saturation = -1;                ///< ḡ [rad]; <= 0 disables
+};
+
+class JointRotationTrackingConstraint final : public Constraint {
+ public:
+  JointRotationTrackingConstraint(RigidActor* actorA, RigidActor* actorB,
+                                  JointRotationTrackingConstraintParams const& params);
+
+  /// The current target R̂ (B relative to A, A-local).
+  Quat GetTargetRotation() const { return TargetRotation(GetTarget()); }
+
+ private:
+  void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
+                  Eigen::Ref<MatrixX> jacobian) const override;
+
+  RigidActor* bodyA_;
+  RigidActor* bodyB_;
+  Quat frameInA_;  ///< R₀
+};
+
+}  // namespace superdex

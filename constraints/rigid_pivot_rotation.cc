@@ -1,0 +1,31 @@
+#include <superdex/constraints/rigid_pivot_rotation.h>
+
+#include <superdex/actors/rigid_actor.h>
+#include <superdex/constraints/rotation_residual.h>
+
+namespace superdex {
+
+RigidPivotRotationConstraint::RigidPivotRotationConstraint(
+    RigidActor* actor, RigidPivotRotationConstraintParams const& params)
+    : Constraint(Layout{.type = ConstraintType::RigidPivotRotation,
+                        .dimension = 3,
+                        .targetKind = TargetKind::Rotation,
+                        .actors = {actor, nullptr},
+                        .localDofs = {DynamicArray<int>{3, 4, 5}, DynamicArray<int>{}}},
+                 {params.stiffness, params.damping, params.saturation}),
+      body_(actor),
+      localRotation_(params.localRotation.normalized()) {
+  Quat const q = params.rotation.normalized();
+  InitializeTarget({q.w(), q.x(), q.y(), q.z()});
+}
+
+void RigidPivotRotationConstraint::DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
+                                              Eigen::Ref<MatrixX> jacobian) const {
+  // g = Log(Lᵀ Q) with L = I and Q = R R_ℓ R̂ᵀ; R multiplies Q from the left
+  internal::RotationResidual const r = internal::EvaluateRotationResidual(
+      Quat::Identity(), body_->GetRotation() * localRotation_ * TargetRotation(target).conjugate());
+  g = r.value;
+  jacobian = r.derivativeQ;
+}
+
+}  // namespace superdex

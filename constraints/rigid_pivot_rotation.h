@@ -1,0 +1,40 @@
+// RigidPivotRotation — drives the rotation of a pivot frame on a rigid body
+// toward a world target rotation R̂:
+//
+//   g = Log(R R_ℓ R̂⁻¹)                                           m = 3, n = 3
+//   J = J_l⁻¹(g)        (columns: the body's rotation increment only)
+// R is the body rotation, R_ℓ the pivot frame in body coordinates. The target
+// is set with SetTargetRotation; updating it every step spins the body.
+// Units: rad; stiffness N·m/rad, damping N·m·s/rad.
+#pragma once
+
+#include <superdex/constraints/constraint.h>
+
+namespace superdex {
+
+class RigidActor;
+
+struct RigidPivotRotationConstraintParams {
+  ActorHandle actor;                       ///< a rigid actor
+  Quat localRotation = Quat::Identity();   ///< pivot frame R_ℓ in the body frame
+  Quat rotation = Quat::Identity();        ///< target R̂, world
+  real stiffness = 0;                      ///< k >= 0 [N·m/rad]
+  real damping = 0;                        ///< d >= 0 [N·m·s/rad]
+  real saturation = -1;                    ///< ḡ [rad]; <= 0 disables
+};
+
+class RigidPivotRotationConstraint final : public Constraint {
+ public:
+  RigidPivotRotationConstraint(RigidActor* actor, RigidPivotRotationConstraintParams const& params);
+
+  Quat const& GetLocalRotation() const { return localRotation_; }
+
+ private:
+  void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
+                  Eigen::Ref<MatrixX> jacobian) const override;
+
+  RigidActor* body_;
+  Quat localRotation_;
+};
+
+}  // namespace superdex

@@ -1,0 +1,42 @@
+// RigidPivotToRigidTarget — pins a point of a rigid body to the same point
+// carried by a prescribed rigid motion T̂ (one actor: T̂ is data, not a body):
+//
+//   g = T(r) − T̂(r) = t + R r − (t̂ + R̂ r)                        m = 3, n = 6
+//   J = [ I, −Hat(R r) ]
+// The target point moves with the target's rotation too. The target
+// transform is set with SetTargetTransform(position, rotation).
+// Units: m; stiffness N/m, damping N·s/m.
+#pragma once
+
+#include <superdex/constraints/constraint.h>
+
+namespace superdex {
+
+class RigidActor;
+
+struct RigidPivotToRigidTargetConstraintParams {
+  ActorHandle actor;                  ///< a rigid actor
+  Real3 localPos = Real3::Zero();     ///< pivot r in the body frame [m]
+  Real3 position = Real3::Zero();     ///< target translation t̂, world [m]
+  Quat rotation = Quat::Identity();   ///< target rotation R̂, world
+  real stiffness = 0;                 ///< k >= 0 [N/m]
+  real damping = 0;                   ///< d >= 0 [N·s/m]
+  real saturation = -1;               ///< ḡ [m]; <= 0 disables
+};
+
+class RigidPivotToRigidTargetConstraint final : public Constraint {
+ public:
+  RigidPivotToRigidTargetConstraint(RigidActor* actor,
+                                    RigidPivotToRigidTargetConstraintParams const& params);
+
+  Real3 const& GetLocalPos() const { return localPos_; }
+
+ private:
+  void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
+                  Eigen::Ref<MatrixX> jacobian) const override;
+
+  RigidActor* body_;
+  Real3 localPos_;
+};
+
+}  // namespace superdex

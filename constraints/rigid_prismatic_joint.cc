@@ -1,0 +1,50 @@
+#include <superdex/constraints/rigid_prismatic_joint.h>
+
+#include <superdex/actors/rigid_actor.h>
+#include <superdex/core/so3.h>
+
+namespace superdex {
+
+RigidPrismaticJointConstraint::RigidPrismaticJointConstraint(
+    RigidActor* actorA, RigidActor* actorB, RigidPrismaticJointConstraintParams const& params)
+    : Constraint(Layout{.type = ConstraintType::RigidPrismaticJoint,
+                        .dimension = 3,
+                        .actors = {actorA, actorB},
+                        .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5}, DynamicArray<int>{0, 1, 2}}},
+                 {params.stiffness, params.damping, params.saturation}),
+      bodyA_(actorA),
+      bodyB_(actorB),
+      frameInA_((actorA->GetRotation().conjugate() * params.jointFrame).normalized()),
+      referenceOffset_(Real3::Zero()),
+      lowerLimit_(params.lowerLimit),
+      upperLimit_(params.upperLimit) {
+  referenceOffset_ = params.offsetAroundRest ? GetOffset() : params.referenceOffset;
+}
+
+Real3 RigidPrismaticJointConstraint::GetOffset() const {
+  Quat const frame = bodyA_->GetRotation() * frameInA_;
+  return frame.conjugate() * (bodyB_->GetPosition() - bodyA_->GetPosition()) - referenceOffset_;
+}
+
+void RigidPrismaticJointConstraint::DoEvaluate(Span<real const>, Eigen::Ref<VectorX> g,
+                                               Eigen::Ref<MatrixX> jacobian) const {
+  Real33 const frameT = (bodyA_->GetRotation() * frameInA_).conjugate().toRotationMatrix();
+  Real3 const separation = bodyB_->GetPosition() - bodyA_->GetPosition();
+  Real3 const s = frameT * separation - referenceOffset_;
+  // ds/dt_A = −F, ds/dδθ_A = F Hat(t_B − t_A), ds/dt_B = F, with F = R₀ᵀ R_Aᵀ
+  jacobian.block<3, 3>(0, 0) = -frameT;
+  jacobian.block<3, 3>(0, 3) = frameT * Hat(separation);
+  jacobian.block<3, 3>(0, 6) = frameT;
+  g.head<2>() = s.head<2>();
+  // third row: signed violation of the travel limits
+  if (s.z() > upperLimit_) {
+    g[2] = s.z() - upperLimit_;
+  } else if (s.z() < lowerLimit_) {
+    g[2] = s.z() - lowerLimit_;
+  } else {
+    g[2] = 0;
+    jacobian.row(2).setZero();
+  }
+}
+
+}  // namespace superdex

@@ -1,0 +1,64 @@
+// RigidPrismaticJoint — restricts the relative translation of two rigid
+// bodies to a sliding axis, with optional travel limits along it.
+//
+//   s = R₀⁻¹ R_A⁻¹ (t_B − t_A) − s_ref                         m = 3, n = 9
+//   g₁ = s₁, g₂ = s₂ (bilateral); g₃ = s₃ − u above the upper limit u,
+//   s₃ − l below the lower limit l, 0 in between (signed violation).
+//   J = R₀ᵀ R_Aᵀ [ −I, Hat(t_B − t_A), I ]  (rows 1, 2; row 3 when outside)
+// Columns: A translation, A rotation increment, B translation.
+//
+// R₀ is the joint frame in A's body coordinates: `jointFrame` is given in
+// world coordinates at creation and converted to A-local then, constant
+// thereafter; its z axis is the free axis. By default (offsetAroundRest) s_ref
+// is the offset observed at creation, so the joint starts satisfied and s₃ (the
+// travel, limits included) is measured from the creation pose.
+//
+// Warning (as the reference page): it does not restrict relative rotation —
+// add a JointRotationTracking for a full prismatic joint — and its travel
+// limits are not reported by GetLimitMinValues/GetLimitMaxValues.
+// Units: m; stiffness N/m, damping N·s/m.
+#pragma once
+
+#include <limits>
+
+#include <superdex/constraints/constraint.h>
+
+namespace superdex {
+
+class RigidActor;
+
+struct RigidPrismaticJointConstraintParams {
+  ActorHandle actorA;                      ///< a rigid actor
+  ActorHandle actorB;                      ///< a different rigid actor
+  Quat jointFrame = Quat::Identity();      ///< joint frame, world, at creation; z = sliding axis
+  bool offsetAroundRest = true;            ///< s_ref = the creation-time offset
+  Real3 referenceOffset = Real3::Zero();   ///< s_ref when !offsetAroundRest [m], joint frame
+  real lowerLimit = -std::numeric_limits<real>::infinity();  ///< l on s₃ [m]
+  real upperLimit = std::numeric_limits<real>::infinity();   ///< u on s₃ [m], >= l
+  real stiffness = 0;                      ///< k >= 0 [N/m]
+  real damping = 0;                        ///< d >= 0 [N·s/m]
+  real saturation = -1;                    ///< ḡ [m]; <= 0 disables
+};
+
+class RigidPrismaticJointConstraint final : public Constraint {
+ public:
+  RigidPrismaticJointConstraint(RigidActor* actorA, RigidActor* actorB,
+                                RigidPrismaticJointConstraintParams const& params);
+
+  /// s (before the limit rule), the offset of B from A in the joint frame.
+  Real3 GetOffset() const;
+  real GetLowerLimit() const { return lowerLimit_; }
+  real GetUpperLimit() const { return upperLimit_; }
+
+ private:
+  void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
+                  Eigen::Ref<MatrixX> jacobian) const override;
+
+  RigidActor* bodyA_;
+  RigidActor* bodyB_;
+  Quat frameInA_;  ///< R₀
+  Real3 referenceOffset_;
+  real lowerLimit_, upperLimit_;
+};
+
+}  // namespace superdex
