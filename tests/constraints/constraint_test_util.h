@@ -7,6 +7,8 @@
 #include "test_support.h"
 #include "white_box.h"
 
+#include <algorithm>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <type_traits>
@@ -93,6 +95,58 @@ inline Constraint* MakePivotPosition(RigidPair& pair, internal::CompliantParams 
   INFO(error.ToString());
   REQUIRE(c);
   return c;
+}
+
+// ---- test-side rotation maps (Eigen only: independent of superdex::Exp/Log) ----
+
+/// Unit quaternion of the rotation vector φ, through Eigen::AngleAxis.
+inline Quat QuatOfRotationVector(Real3 const& phi) {
+  real const angle = phi.norm();
+  if (angle == 0) return Quat::Identity();
+  return Quat(Eigen::AngleAxis<real>(angle, phi / angle));
+}
+
+/// The reference Log: rotation vector angle·axis of a rotation matrix through
+/// Eigen::AngleAxis (angle ∈ [0, π]), not superdex::Log.
+inline Real3 ReferenceLog(Real33 const& rotation) {
+  Eigen::AngleAxis<real> const angleAxis(rotation);
+  return angleAxis.angle() * angleAxis.axis();
+}
+
+// ---- range bounds placed around a measured value ----
+
+/// Where a bounded component sits relative to its bounds l <= u.
+enum class RangeRegion { BelowLower, Inside, AboveUpper };
+
+inline char const* ToString(RangeRegion region) {
+  switch (region) {
+    case RangeRegion::BelowLower: return "below lower";
+    case RangeRegion::Inside: return "inside";
+    case RangeRegion::AboveUpper: return "above upper";
+  }
+  return "?";
+}
+
+struct Bounds {
+  real lower, upper;
+};
+
+/// Bounds that put the measured value x in `region`, `margin` away from the
+/// nearest bound. `oneSided` makes the bound on the far side infinite (inside:
+/// the lower one); otherwise the far bound is 3·margin away.
+inline Bounds BoundsPlacing(real x, RangeRegion region, real margin, bool oneSided) {
+  real const inf = std::numeric_limits<real>::infinity();
+  switch (region) {
+    case RangeRegion::BelowLower: return {x + margin, oneSided ? inf : x + 3 * margin};
+    case RangeRegion::AboveUpper: return {oneSided ? -inf : x - 3 * margin, x - margin};
+    case RangeRegion::Inside: return {oneSided ? -inf : x - margin, x + margin};
+  }
+  return {-inf, inf};
+}
+
+/// The reference page's one-sided violation max(x − u, l − x, 0).
+inline real ReferenceViolation(real x, Bounds const& bounds) {
+  return std::max({x - bounds.upper, bounds.lower - x, real(0)});
 }
 
 inline RigidActor& RigidOf(Constraint const& c, int actorIndex) {
