@@ -9,9 +9,15 @@
 #include <superdex/core/types.h>
 
 #include <superdex/actors/actor.h>
+#include <superdex/actors/deformable_actor.h>
+#include <superdex/actors/mesh.h>
+#include <superdex/actors/vtk_writer.h>
 #include <superdex/actors/rigid_actor.h>
 
 #include <superdex/constraints/constraint.h>
+#include <superdex/constraints/deformable_node_position.h>
+#include <superdex/constraints/deformable_node_to_deformable_node.h>
+#include <superdex/constraints/deformable_node_to_rigid.h>
 #include <superdex/constraints/joint_rotation_range.h>
 #include <superdex/constraints/joint_rotation_tracking.h>
 #include <superdex/constraints/rigid_pivot_position.h>

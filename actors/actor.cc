@@ -5,6 +5,7 @@ namespace superdex {
 std::string_view ToString(ActorType type) {
   switch (type) {
     case ActorType::Rigid: return "Rigid";
+    case ActorType::Deformable: return "Deformable";
   }
   return "Unknown";
 }

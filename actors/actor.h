@@ -12,7 +12,7 @@ namespace superdex {
 
 class Scene;
 
-enum class ActorType { Rigid };
+enum class ActorType { Rigid, Deformable };
 
 std::string_view ToString(ActorType type);
 

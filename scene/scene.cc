@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <type_traits>
 
 #include <superdex/core/validate.h>
 #include <superdex/scene/stage_solver.h>
@@ -74,6 +75,14 @@ RigidActor* Scene::CreateRigidActor(RigidActorParams const& params, Error& error
   return raw;
 }
 
+DeformableActor* Scene::CreateDeformableActor(DeformableActorParams const& params, Error& error) {
+  std::unique_ptr<DeformableActor> actor = DeformableActor::Create(params, error);
+  if (!actor) return nullptr;
+  DeformableActor* raw = actor.get();
+  AddActor(std::move(actor));
+  return raw;
+}
+
 Actor* Scene::GetActor(ActorHandle handle) const { return actors_.Get(handle); }
 
 void Scene::ForEachActor(std::function<void(Actor&)> const& fn) const {
@@ -105,20 +114,37 @@ bool Scene::DestroyActor(ActorHandle handle, Error& error) {
 
 // ---- constraints ----
 
-RigidActor* Scene::GetRigidActor(ActorHandle handle, std::string_view field, Error& error) const {
+template <class T>
+T* Scene::GetActorAs(ActorHandle handle, std::string_view field, Error& error) const {
+  constexpr ActorType kType = std::is_same_v<T, RigidActor> ? ActorType::Rigid : ActorType::Deformable;
   Actor* actor = actors_.Get(handle);
   if (!actor) {
     error.Set(ErrorCode::InvalidHandle,
               std::string(field) + ": actor handle " + HandleText(handle) + " is null or stale");
     return nullptr;
   }
-  if (actor->GetType() != ActorType::Rigid) {
-    error.Set(ErrorCode::InvalidHandle, std::string(field) + ": actor " + HandleText(handle) +
-                                             " is a " + std::string(ToString(actor->GetType())) +
-                                             " actor, expected a rigid actor");
+  if (actor->GetType() != kType) {
+    error.Set(ErrorCode::InvalidHandle, std::string(field) + ": actor " + HandleText(handle) + " is a " +
+                                            std::string(ToString(actor->GetType())) + " actor, expected a " +
+                                            std::string(ToString(kType)) + " actor");
     return nullptr;
   }
-  return static_cast<RigidActor*>(actor);
+  return static_cast<T*>(actor);
+}
+
+DeformableActor* Scene::GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
+                                          std::string_view actorField, std::string_view nodeField,
+                                          Error& error) const {
+  std::string const prefix = std::string(paramsName) + ".";
+  auto* actor = GetActorAs<DeformableActor>(handle, prefix + std::string(actorField), error);
+  if (!actor) return nullptr;
+  if (node < 0 || node >= actor->GetNumNodes()) {
+    error.Set(ErrorCode::InvalidArgument, prefix + std::string(nodeField) + " must be in [0, " +
+                                              std::to_string(actor->GetNumNodes()) + "), got " +
+                                              std::to_string(node));
+    return nullptr;
+  }
+  return actor;
 }
 
 namespace {
@@ -255,6 +281,45 @@ Constraint* Scene::CreateRigidPivotRotationConstraint(RigidPivotRotationConstrai
       !CheckField(p.rotation, kParams, "rotation", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<RigidPivotRotationConstraint>(a, p));
+}
+
+Constraint* Scene::CreateDeformableNodePositionConstraint(
+    DeformableNodePositionConstraintParams const& p, Error& error) {
+  constexpr std::string_view kParams = "DeformableNodePositionConstraintParams";
+  DeformableActor* a = GetDeformableNode(p.actor, p.nodeIndex, kParams, "actor", "nodeIndex", error);
+  if (!a || !CheckField(p.position, kParams, "position", error) || !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<DeformableNodePositionConstraint>(a, p));
+}
+
+Constraint* Scene::CreateDeformableNodeToDeformableNodeConstraint(
+    DeformableNodeToDeformableNodeConstraintParams const& p, Error& error) {
+  constexpr std::string_view kParams = "DeformableNodeToDeformableNodeConstraintParams";
+  DeformableActor* a = GetDeformableNode(p.actorA, p.nodeIndexA, kParams, "actorA", "nodeIndexA", error);
+  if (!a) return nullptr;
+  DeformableActor* b = GetDeformableNode(p.actorB, p.nodeIndexB, kParams, "actorB", "nodeIndexB", error);
+  if (!b) return nullptr;
+  if (a == b) {
+    error.Set(ErrorCode::InvalidArgument, std::string(kParams) +
+                                              ".actorB must differ from actorA (a node-to-node spring "
+                                              "couples two deformable actors), both are " +
+                                              HandleText(p.actorA));
+    return nullptr;
+  }
+  if (!CheckCompliance(p, kParams, error)) return nullptr;
+  return AddConstraint(std::make_unique<DeformableNodeToDeformableNodeConstraint>(a, b, p));
+}
+
+Constraint* Scene::CreateDeformableNodeToRigidConstraint(DeformableNodeToRigidConstraintParams const& p,
+                                                         Error& error) {
+  constexpr std::string_view kParams = "DeformableNodeToRigidConstraintParams";
+  DeformableActor* d = GetDeformableNode(p.deformableActor, p.deformableNodeIndex, kParams,
+                                         "deformableActor", "deformableNodeIndex", error);
+  if (!d) return nullptr;
+  RigidActor* r = GetRigidActor(p.rigidActor, std::string(kParams) + ".rigidActor", error);
+  if (!r || !CheckField(p.localPos, kParams, "localPos", error) || !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<DeformableNodeToRigidConstraint>(d, r, p));
 }
 
 Constraint* Scene::GetConstraint(ConstraintHandle handle) const { return constraints_.Get(handle); }

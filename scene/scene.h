@@ -12,8 +12,12 @@
 #include <functional>
 #include <memory>
 
+#include <superdex/actors/deformable_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/constraint.h>
+#include <superdex/constraints/deformable_node_position.h>
+#include <superdex/constraints/deformable_node_to_deformable_node.h>
+#include <superdex/constraints/deformable_node_to_rigid.h>
 #include <superdex/constraints/joint_rotation_range.h>
 #include <superdex/constraints/joint_rotation_tracking.h>
 #include <superdex/constraints/rigid_pivot_position.h>
@@ -47,6 +51,7 @@ class Scene {
 
   // ---- actors ----
   RigidActor* CreateRigidActor(RigidActorParams const& params, Error& error);
+  DeformableActor* CreateDeformableActor(DeformableActorParams const& params, Error& error);
   /// The actor, or nullptr for a null or stale handle.
   Actor* GetActor(ActorHandle handle) const;
   /// Destroys the actor and every constraint that references it.
@@ -73,6 +78,12 @@ class Scene {
       RigidPivotToRigidTargetConstraintParams const& params, Error& error);
   Constraint* CreateRigidPivotRotationConstraint(RigidPivotRotationConstraintParams const& params,
                                                  Error& error);
+  Constraint* CreateDeformableNodePositionConstraint(
+      DeformableNodePositionConstraintParams const& params, Error& error);
+  Constraint* CreateDeformableNodeToDeformableNodeConstraint(
+      DeformableNodeToDeformableNodeConstraintParams const& params, Error& error);
+  Constraint* CreateDeformableNodeToRigidConstraint(
+      DeformableNodeToRigidConstraintParams const& params, Error& error);
   /// The constraint, or nullptr for a null or stale handle.
   Constraint* GetConstraint(ConstraintHandle handle) const;
   void ForEachConstraint(std::function<void(Constraint&)> const& fn) const;
@@ -99,8 +110,16 @@ class Scene {
 
   ActorHandle AddActor(std::unique_ptr<Actor> actor);
   Constraint* AddConstraint(std::unique_ptr<Constraint> constraint);
-  /// A live rigid actor for `handle`, or nullptr with `error` naming `field`.
-  RigidActor* GetRigidActor(ActorHandle handle, std::string_view field, Error& error) const;
+  /// A live actor of type T for `handle`, or nullptr with `error` naming `field`.
+  template <class T>
+  T* GetActorAs(ActorHandle handle, std::string_view field, Error& error) const;
+  RigidActor* GetRigidActor(ActorHandle handle, std::string_view field, Error& error) const {
+    return GetActorAs<RigidActor>(handle, field, error);
+  }
+  /// A live deformable actor and a node index in range, or nullptr.
+  DeformableActor* GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
+                                     std::string_view actorField, std::string_view nodeField,
+                                     Error& error) const;
   /// Two live, distinct rigid actors for `actorA`/`actorB` of `params`.
   bool GetRigidPair(ActorHandle actorA, ActorHandle actorB, std::string_view paramsName,
                     RigidActor*& a, RigidActor*& b, Error& error) const;

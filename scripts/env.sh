@@ -59,5 +59,16 @@ elif [[ -n ${_superdex_coretype} ]] &&
   fi
 fi
 
+# Debian's CHOLMOD opens an OpenMP team of 4 threads (fixed at its build) on
+# every factorization, on top of OpenBLAS's own threads. On this 2-core
+# machine that costs 40–60 µs per small factorization (docs/linear_solvers.md)
+# and, measured on the pinned-cloth test (867 DoFs, ~30k factorizations):
+# 21 s with the default, 3 min 50 s with OMP_THREAD_LIMIT=2, 15 s with
+# OMP_THREAD_LIMIT=1. OpenBLAS (pthreads) still runs the dense kernels on every
+# core, so CHOLMOD's OpenMP team is limited to one thread unless set already.
+if [[ -z ${OMP_THREAD_LIMIT:-} ]]; then
+  export OMP_THREAD_LIMIT=1
+fi
+
 unset -f _superdex_has _superdex_tier
 unset _superdex_flags _superdex_coretype

@@ -65,6 +65,13 @@ struct ActorTestAccess {
   static void AppendDofBlockSizes(Actor const& a, DynamicArray<int>& sizes) {
     a.AppendDofBlockSizes(sizes);
   }
+  /// Moves the actor by `delta` (a global-size vector, entries at the actor's
+  /// DoFs) from its saved iterate; SaveIterate first, RestoreIterate after.
+  static void SaveIterate(Actor& a) { a.SaveIterate(); }
+  static void RestoreIterate(Actor& a) { a.RestoreIterate(); }
+  static void ApplyIncrementFromSaved(Actor& a, Span<real const> delta, real alpha) {
+    a.ApplyIncrementFromSaved(delta, alpha);
+  }
 };
 
 }  // namespace superdex::internal

@@ -1,0 +1,136 @@
+// A deformable actor: a mesh of nodes with 3 displacement DoFs each, u in
+// the actor frame; a node's world position is T(X + u) with X its reference
+// position and T the actor's fixed rigid transform (design.md §3, §4.2).
+//
+// Elements, each a small dense block in the global Hessian:
+//   tetrahedra  linear, hyperelastic (TetMaterialModel), energy V·Ψ(F)
+//   triangles   shell membrane (StVK, plane stress, thickness h)
+//   hinges      shell bending on every interior edge of the triangles
+//               (quadratic bending), k_b = E h³/(36(1 − ν²)) = D/3 so that
+//               a sheet bent into a cylinder stores the plate energy D/2 κ²
+//               per area (shell_element.h)
+// Mass is lumped: ρV/4 per tet node, ρhA/3 per triangle node.
+//
+// Stage terms, per node i with Δᵢ = uᵢ − uᵢⁿ (scene/integrator.h):
+//   ½ w mᵢ ‖Δᵢ − Δ̂ᵢ‖² − mᵢ g_T·uᵢ    (g_T = R_Tᵀ g, gravity in the actor frame)
+// plus the elastic energy; element Hessians are projected to PSD.
+#pragma once
+
+#include <array>
+
+#include <superdex/actors/actor.h>
+#include <superdex/actors/shell_element.h>
+#include <superdex/actors/tet_element.h>
+#include <superdex/core/error.h>
+#include <superdex/scene/integrator.h>
+
+namespace superdex {
+
+struct DeformableActorParams {
+  DynamicArray<Real3> nodes;                        ///< reference positions X, actor frame [m]
+  DynamicArray<std::array<int, 4>> tetrahedra;      ///< volumetric elements (positive volume)
+  DynamicArray<std::array<int, 3>> triangles;       ///< shell elements
+  Real3 position = Real3::Zero();                   ///< actor transform T: translation [m]
+  Quat rotation = Quat::Identity();                 ///< actor transform T: rotation (unit)
+  real density = 1000;                              ///< ρ [kg/m³], > 0
+  real youngModulus = 1e5;                          ///< E [Pa], > 0
+  real poissonRatio = 0.3;                          ///< ν, in (−1, 0.5)
+  TetMaterialModel material = TetMaterialModel::StableNeoHookean;
+  real thickness = 1e-3;                            ///< shell thickness h [m], > 0 with triangles
+  bool shellBending = true;                         ///< bending on interior edges of the triangles
+  /// Optional initial displacements u (actor frame), one per node, or empty.
+  DynamicArray<Real3> initialDisplacements;
+  /// Optional initial velocities (world frame), one per node, or empty.
+  DynamicArray<Real3> initialVelocities;
+};
+
+class DeformableActor final : public Actor {
+ public:
+  /// Validates everything (material parameters, mesh indices, non-degenerate
+  /// and positively oriented rest elements, every node in some element);
+  /// nullptr and an Error naming the field or element on bad input.
+  static std::unique_ptr<DeformableActor> Create(DeformableActorParams const& params, Error& error);
+
+  int GetNumNodes() const { return static_cast<int>(reference_.size()); }
+  int GetNumTetrahedra() const { return static_cast<int>(tetrahedra_.size()); }
+  int GetNumTriangles() const { return static_cast<int>(triangles_.size()); }
+  int GetNumHinges() const { return static_cast<int>(hinges_.size()); }
+  DynamicArray<std::array<int, 4>> const& GetTetrahedra() const { return tetrahedra_; }
+  DynamicArray<std::array<int, 3>> const& GetTriangles() const { return triangles_; }
+
+  /// X of node i (actor frame). Preconditions for every node accessor: 0 <= i < GetNumNodes().
+  Real3 const& GetNodeReferencePosition(int i) const { return reference_[i]; }
+  /// u of node i (actor frame).
+  Real3 const& GetNodeDisplacement(int i) const { return state_.displacement[i]; }
+  /// T(X + u), world frame.
+  Real3 GetNodePosition(int i) const;
+  /// World-frame velocity of node i.
+  Real3 GetNodeVelocity(int i) const;
+  real GetNodeMass(int i) const { return mass_[i]; }
+  real GetTotalMass() const;
+  /// World positions of all nodes (one bulk copy).
+  DynamicArray<Real3> GetNodePositions() const;
+  Real3 const& GetTransformPosition() const { return transformPosition_; }
+  Quat const& GetTransformRotation() const { return transformRotation_; }
+
+  real GetKineticEnergy() const;
+  /// Elastic energy of every element at the current configuration.
+  real GetElasticEnergy() const;
+  /// Tetrahedra with det F <= 0 now.
+  int CountInvertedTetrahedra() const;
+
+ private:
+  DeformableActor(int numNodes) : Actor(ActorType::Deformable, 3 * numNodes) {}
+
+  struct State {
+    DynamicArray<Real3> displacement, velocity;  ///< actor frame
+    bool hasHistory = false;
+    DynamicArray<Real3> previousDisplacement, previousVelocity;
+  };
+  struct Snapshot final : internal::ActorSnapshot {
+    State state;
+  };
+
+  void AppendDofBlockSizes(DynamicArray<int>& sizes) const override;
+  void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
+  void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
+  real Energy() const override;
+  void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+                             int firstContributor) const override;
+  void SaveIterate() override;
+  void RestoreIterate() override;
+  void ApplyIncrementFromSaved(Span<real const> delta, real alpha) override;
+  bool IsStateFinite() const override;
+  void EndStage() override;
+  void SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const override;
+  void RestoreSnapshot(internal::ActorSnapshot const& snapshot) override;
+
+  template <int N>
+  Eigen::Matrix<real, 3 * N, 1> Gather(std::array<int, N> const& nodes) const;
+  template <int N, class Block>
+  void Scatter(std::array<int, N> const& nodes, Block const& local, Span<real> gradient) const;
+
+  // definition (immutable after creation)
+  DynamicArray<Real3> reference_;
+  DynamicArray<real> mass_;
+  Real3 transformPosition_;
+  Quat transformRotation_;
+  TetMaterialModel material_;
+  internal::LameParameters lame_;
+  real lambdaPlaneStress_ = 0, thickness_ = 0, bendingStiffness_ = 0;
+  DynamicArray<std::array<int, 4>> tetrahedra_;
+  DynamicArray<internal::TetRestData> tetRest_;
+  DynamicArray<std::array<int, 3>> triangles_;
+  DynamicArray<internal::TriangleRestData> triangleRest_;
+  DynamicArray<std::array<int, 4>> hinges_;
+  DynamicArray<internal::HingeRestData> hingeRest_;
+
+  State state_;
+  // stage scratch (sized at creation)
+  internal::StageCoefficients stage_;
+  real weight_ = 0;
+  Real3 gravityLocal_;
+  DynamicArray<Real3> stageStart_, target_, previousOffset_, saved_;
+};
+
+}  // namespace superdex

@@ -1,0 +1,30 @@
+#include <superdex/constraints/deformable_node_position.h>
+
+#include <superdex/actors/deformable_actor.h>
+
+namespace superdex {
+
+namespace {
+DynamicArray<int> NodeDofs(int node) { return {3 * node, 3 * node + 1, 3 * node + 2}; }
+}  // namespace
+
+DeformableNodePositionConstraint::DeformableNodePositionConstraint(
+    DeformableActor* actor, DeformableNodePositionConstraintParams const& params)
+    : Constraint(Layout{.type = ConstraintType::DeformableNodePosition,
+                        .dimension = 3,
+                        .targetKind = TargetKind::Position,
+                        .actors = {actor, nullptr},
+                        .localDofs = {NodeDofs(params.nodeIndex), DynamicArray<int>{}}},
+                 {params.stiffness, params.damping, params.saturation}),
+      actor_(actor),
+      node_(params.nodeIndex) {
+  InitializeTarget({params.position.x(), params.position.y(), params.position.z()});
+}
+
+void DeformableNodePositionConstraint::DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
+                                                  Eigen::Ref<MatrixX> jacobian) const {
+  g = actor_->GetNodePosition(node_) - TargetPosition(target);
+  jacobian = actor_->GetTransformRotation().toRotationMatrix();
+}
+
+}  // namespace superdex

@@ -1,0 +1,36 @@
+#include <superdex/constraints/deformable_node_to_rigid.h>
+
+#include <superdex/actors/deformable_actor.h>
+#include <superdex/actors/rigid_actor.h>
+#include <superdex/core/so3.h>
+
+namespace superdex {
+
+DeformableNodeToRigidConstraint::DeformableNodeToRigidConstraint(
+    DeformableActor* deformable, RigidActor* rigid, DeformableNodeToRigidConstraintParams const& params)
+    : Constraint(Layout{.type = ConstraintType::DeformableNodeToRigid,
+                        .dimension = 3,
+                        .actors = {deformable, rigid},
+                        .localDofs = {DynamicArray<int>{3 * params.deformableNodeIndex,
+                                                        3 * params.deformableNodeIndex + 1,
+                                                        3 * params.deformableNodeIndex + 2},
+                                      DynamicArray<int>{0, 1, 2, 3, 4, 5}}},
+                 {params.stiffness, params.damping, params.saturation}),
+      deformable_(deformable),
+      rigid_(rigid),
+      node_(params.deformableNodeIndex),
+      localPos_(params.fixToDeformablePos
+                    ? Real3(rigid->GetRotation().conjugate() *
+                            (deformable->GetNodePosition(params.deformableNodeIndex) - rigid->GetPosition()))
+                    : params.localPos) {}
+
+void DeformableNodeToRigidConstraint::DoEvaluate(Span<real const>, Eigen::Ref<VectorX> g,
+                                                 Eigen::Ref<MatrixX> jacobian) const {
+  Real3 const arm = rigid_->GetRotation() * localPos_;
+  g = rigid_->GetPosition() + arm - deformable_->GetNodePosition(node_);
+  jacobian.block<3, 3>(0, 0) = -deformable_->GetTransformRotation().toRotationMatrix();
+  jacobian.block<3, 3>(0, 3).setIdentity();
+  jacobian.block<3, 3>(0, 6) = -Hat(arm);
+}
+
+}  // namespace superdex
