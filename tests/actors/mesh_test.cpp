@@ -432,7 +432,7 @@ Error ReadBad(BadFile const& bad, std::string const& badPath) {
 
 }  // namespace
 
-TEST_CASE("readers: every malformed file gives its file, line and reason; the mesh is unchanged",
+TEST_CASE("readers: every malformed file gives its file, line and reason, and the mesh is unchanged",
           "[actors][mesh][io][input]") {
   using R = Reader;
   auto const bad = GENERATE(values<BadFile>({
