@@ -59,7 +59,8 @@ TEST_CASE("the reference page's code examples compile and run as written", "[con
   REQUIRE(j->GetType() == ConstraintType::RigidSphericalJoint);
   REQUIRE(att->GetType() == ConstraintType::DeformableNodeToRigid);
   REQUIRE(ToReal3(att->GetDeviation()).norm() == 0);  // fixToDeformablePos
-  StepOk(*scene, 1e-3, 5);
+  real const before = (softActor->GetNodePosition(0) - Real3(0, 1, 0)).norm();
+  StepOk(*scene, 1e-3, 20);
   // the pinned node is pulled toward (0, 1, 0)
-  REQUIRE(softActor->GetNodeVelocity(0).y() > 0);
+  REQUIRE((softActor->GetNodePosition(0) - Real3(0, 1, 0)).norm() < 0.9 * before);
 }
