@@ -131,3 +131,55 @@ TEST_CASE("deformable coupling Jacobians match central differences", "[constrain
     REQUIRE(DeviationOf(*fixed).norm() <= 1e-14);
   }
 }
+
+TEST_CASE("type-specific methods on the deformable couplings", "[constraints][deformable]") {
+  auto scene = MakeScene();
+  DeformableActor* a = MakeBlock(*scene, Real3::Zero(), Quat::Identity(), 0);
+  DeformableActor* b = MakeBlock(*scene, Real3(1, 0, 0), Quat::Identity(), 0);
+  RigidActor* rigid = MakeRigid(*scene, {});
+  Error error;
+  DeformableNodePositionConstraintParams pin;
+  pin.actor = a->GetHandle();
+  DeformableNodeToDeformableNodeConstraintParams spring;
+  spring.actorA = a->GetHandle();
+  spring.actorB = b->GetHandle();
+  DeformableNodeToRigidConstraintParams attach;
+  attach.deformableActor = b->GetHandle();
+  attach.rigidActor = rigid->GetHandle();
+  Constraint* constraints[] = {scene->CreateDeformableNodePositionConstraint(pin, error),
+                               scene->CreateDeformableNodeToDeformableNodeConstraint(spring, error),
+                               scene->CreateDeformableNodeToRigidConstraint(attach, error)};
+  for (Constraint* c : constraints) {
+    REQUIRE(c);
+    CAPTURE(ToString(c->GetType()));
+    VectorX const before = DeviationOf(*c);
+    bool const hasTarget = c->GetType() == ConstraintType::DeformableNodePosition;
+    error.Clear();
+    REQUIRE(c->SetTargetPosition(Real3(0, 2, 0), error) == hasTarget);
+    REQUIRE(c->UpdateOldTarget(error) == hasTarget);
+    if (!hasTarget) {
+      REQUIRE(error.GetCode() == ErrorCode::NotSupported);
+      REQUIRE(DeviationOf(*c) == before);
+    } else {
+      REQUIRE(DeviationOf(*c) != before);
+    }
+    for (auto call : {+[](Constraint* k, Error& e) { return k->SetTargetRotation(Quat::Identity(), e); },
+                      +[](Constraint* k, Error& e) { return k->SetTargetDof(0.0, e); },
+                      +[](Constraint* k, Error& e) { return !k->GetLimitMinValues(e).empty(); }}) {
+      error.Clear();
+      REQUIRE_FALSE(call(c, error));
+      REQUIRE(error.GetCode() == ErrorCode::NotSupported);
+    }
+  }
+  // a node-to-node spring needs two different actors
+  spring.actorB = a->GetHandle();
+  error.Clear();
+  REQUIRE_FALSE(scene->CreateDeformableNodeToDeformableNodeConstraint(spring, error));
+  REQUIRE(error.GetMessage().find("actorB") != std::string::npos);
+  // a rigid handle where a deformable one is expected
+  pin.actor = rigid->GetHandle();
+  error.Clear();
+  REQUIRE_FALSE(scene->CreateDeformableNodePositionConstraint(pin, error));
+  REQUIRE(error.GetCode() == ErrorCode::InvalidHandle);
+  REQUIRE(scene->GetNumConstraints() == 3);
+}
