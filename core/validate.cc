@@ -12,13 +12,22 @@ std::string Format(real value) {
   return s.str();
 }
 
-std::string Format(Real3 const& v) {
-  return "(" + Format(v.x()) + ", " + Format(v.y()) + ", " + Format(v.z()) + ")";
+namespace {
+// "(<prefix0><a>, <prefix1><b>, ...)", appended piece by piece
+std::string FormatList(std::initializer_list<std::pair<char const*, real>> items) {
+  std::string text("(");
+  for (auto const& [label, value] : items) {
+    if (text.size() > 1) text.append(", ");
+    text.append(label).append(Format(value));
+  }
+  return text.append(")");
 }
+}  // namespace
+
+std::string Format(Real3 const& v) { return FormatList({{"", v.x()}, {"", v.y()}, {"", v.z()}}); }
 
 std::string Format(Quat const& q) {
-  return "(w=" + Format(q.w()) + ", x=" + Format(q.x()) + ", y=" + Format(q.y()) +
-         ", z=" + Format(q.z()) + ")";
+  return FormatList({{"w=", q.w()}, {"x=", q.x()}, {"y=", q.y()}, {"z=", q.z()}});
 }
 
 namespace {
