@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <superdex/actors/actor.h>
+#include <superdex/core/validate.h>
 
 namespace superdex::internal {
 
@@ -203,8 +204,8 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
                   Where(stageIndex, iteration) +
                       ": line search found no decrease of the incremental potential after " +
                       std::to_string(newton.maxLineSearchSteps) + " halvings (step norm " +
-                      std::to_string(stepNorm) + ", gradient norm " +
-                      std::to_string(stats.gradientNorm) + ")");
+                      Format(stepNorm) + ", gradient norm " +
+                      Format(stats.gradientNorm) + ")");
         return false;
       }
       energy = trialEnergy;
@@ -226,8 +227,8 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
   error.Set(ErrorCode::NewtonFailed,
             Where(stageIndex, newton.maxIterations) + ": Newton did not converge within " +
                 std::to_string(newton.maxIterations) + " iterations (gradient norm " +
-                std::to_string(stats.gradientNorm) + ", tolerance " +
-                std::to_string(newton.velocityTolerance) + " on the velocity-scaled step)");
+                Format(stats.gradientNorm) + ", tolerance " +
+                Format(newton.velocityTolerance) + " on the velocity-scaled step)");
   return false;
 }
 
