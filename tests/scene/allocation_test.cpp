@@ -55,3 +55,43 @@ TEST_CASE("steps after the first allocate nothing", "[scene][allocation]") {
   REQUIRE(newtonIterations >= 20);
   REQUIRE(during == 0);
 }
+
+TEST_CASE("deformable steps after the first allocate nothing", "[scene][allocation]") {
+  SceneParams params;
+  params.integrator = IntegratorType::Bdf2;
+  auto scene = MakeScene(params);
+  TetMesh mesh;
+  Error error;
+  REQUIRE(MakeTetBox(Real3::Zero(), Real3(0.3, 0.1, 0.1), {6, 2, 2}, mesh, error));
+  DeformableActorParams p;
+  p.nodes = mesh.nodes;
+  p.tetrahedra = mesh.tetrahedra;
+  p.triangles = {{0, 1, 7}, {1, 8, 7}, {1, 2, 8}};  // a shell patch on the bottom face, with hinges
+  DeformableActor* block = scene->CreateDeformableActor(p, error);
+  REQUIRE(block);
+  REQUIRE(block->GetNumHinges() > 0);
+  for (int i = 0; i < block->GetNumNodes(); ++i) {
+    if (block->GetNodeReferencePosition(i).x() > 1e-9) continue;
+    DeformableNodePositionConstraintParams pin;
+    pin.actor = block->GetHandle();
+    pin.nodeIndex = i;
+    pin.position = block->GetNodePosition(i);
+    pin.stiffness = 1e7;
+    Constraint* c = scene->CreateDeformableNodePositionConstraint(pin, error);
+    REQUIRE(c);
+    REQUIRE(c->RegisterQuery(QueryType::ConstraintForce, error));
+  }
+  StepOk(*scene, 1e-2, 2);
+  REQUIRE(scene->GetStats().linearSolver.find("CHOLMOD") != std::string::npos);
+  long const before = allocations.load();
+  int newtonIterations = 0;
+  for (int i = 0; i < 10; ++i) {
+    if (!scene->Step(1e-2, error)) break;
+    newtonIterations += scene->GetStats().newtonIterations;
+  }
+  long const during = allocations.load() - before;
+  INFO(error.ToString());
+  REQUIRE_FALSE(error);
+  REQUIRE(newtonIterations >= 10);
+  REQUIRE(during == 0);
+}
