@@ -8,7 +8,8 @@ bash scripts/setup.sh
 source scripts/env.sh
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j"$(nproc)"
+# the main job needs the library and its example only
+cmake --build build -j"$(nproc)" --target superdex_double_pendulum
 
 mkdir -p results/double_pendulum
 build/examples/double_pendulum/superdex_double_pendulum --out results/double_pendulum
