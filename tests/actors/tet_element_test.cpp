@@ -34,81 +34,8 @@
 #include <limits>
 #include <new>
 
+#include "allocation_recorder.h"
 #include "test_support.h"
-
-// ---------------------------------------------------------------------------
-// allocation recorder, for (g): every heap allocator of the process counts
-// while gRecording is set (forwarding to glibc's)
-// ---------------------------------------------------------------------------
-
-extern "C" {
-void* __libc_malloc(std::size_t size);
-void* __libc_calloc(std::size_t count, std::size_t size);
-void* __libc_realloc(void* pointer, std::size_t size);
-void* __libc_memalign(std::size_t alignment, std::size_t size);
-void __libc_free(void* pointer);
-}
-
-namespace {
-std::atomic<bool> gRecording{false};
-std::atomic<int> gNumAllocations{0};
-void Record() {
-  if (gRecording.load(std::memory_order_relaxed)) ++gNumAllocations;
-}
-}  // namespace
-
-extern "C" {
-void* malloc(std::size_t size) {
-  Record();
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t count, std::size_t size) {
-  Record();
-  return __libc_calloc(count, size);
-}
-void* realloc(void* pointer, std::size_t size) {
-  Record();
-  return __libc_realloc(pointer, size);
-}
-void* memalign(std::size_t alignment, std::size_t size) {
-  Record();
-  return __libc_memalign(alignment, size);
-}
-void* aligned_alloc(std::size_t alignment, std::size_t size) {
-  Record();
-  return __libc_memalign(alignment, size);
-}
-int posix_memalign(void** pointer, std::size_t alignment, std::size_t size) {
-  Record();
-  void* result = __libc_memalign(alignment, size);
-  if (result == nullptr) return ENOMEM;
-  *pointer = result;
-  return 0;
-}
-}
-
-void* operator new(std::size_t size) {
-  Record();
-  if (void* pointer = __libc_malloc(size == 0 ? 1 : size)) return pointer;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  Record();
-  if (void* pointer = __libc_malloc(size == 0 ? 1 : size)) return pointer;
-  throw std::bad_alloc();
-}
-void operator delete(void* pointer) noexcept {
-  __libc_free(pointer);
-}
-void operator delete[](void* pointer) noexcept {
-  __libc_free(pointer);
-}
-void operator delete(void* pointer, std::size_t) noexcept {
-  __libc_free(pointer);
-}
-void operator delete[](void* pointer, std::size_t) noexcept {
-  __libc_free(pointer);
-}
 
 using namespace superdex;
 using namespace superdex::test;
@@ -741,30 +668,27 @@ TEST_CASE("the kernels allocate nothing", "[actors][tet][allocation]") {
   real sink = 0;
 
   // the recorder works: an allocation made while recording is counted
-  gNumAllocations = 0;
-  gRecording = true;
-  void* volatile probe = std::malloc(64);
-  gRecording = false;
-  std::free(probe);
-  REQUIRE(gNumAllocations.load() == 1);
+  REQUIRE(CountAllocations([] {
+            void* volatile probe = std::malloc(64);
+            std::free(probe);
+          }).total == 1);
 
-  gNumAllocations = 0;
-  gRecording = true;
-  for (Vector12 const& x : configurations)
-    for (Model model : {Model::StableNeoHookean, Model::LinearElastic})
-      for (TetPsdProjection projection :
-           {TetPsdProjection::None, TetPsdProjection::Analytic, TetPsdProjection::EigenSolver}) {
-        sink +=
-            internal::TetEnergyGradientHessian(model, lame, rest, x, gradient, hessian, projection);
-        sink += internal::TetEnergyGradientHessian(model, lame, rest, x, gradient, hessian, true);
-        sink += internal::TetEnergy(model, lame, rest, x);
-        sink += internal::TetFirstPiolaStress(model, lame,
-                                              internal::TetDeformationGradient(rest, x))(0, 0);
-      }
-  TetRestData other;
-  auto const nodes = RestNodes();
-  sink += internal::MakeTetRestData(nodes[0], nodes[1], nodes[2], nodes[3], other);
-  gRecording = false;
+  Allocations const kernels = CountAllocations([&] {
+    for (Vector12 const& x : configurations)
+      for (Model model : {Model::StableNeoHookean, Model::LinearElastic})
+        for (TetPsdProjection projection :
+             {TetPsdProjection::None, TetPsdProjection::Analytic, TetPsdProjection::EigenSolver}) {
+          sink +=
+              internal::TetEnergyGradientHessian(model, lame, rest, x, gradient, hessian, projection);
+          sink += internal::TetEnergyGradientHessian(model, lame, rest, x, gradient, hessian, true);
+          sink += internal::TetEnergy(model, lame, rest, x);
+          sink += internal::TetFirstPiolaStress(model, lame,
+                                                internal::TetDeformationGradient(rest, x))(0, 0);
+        }
+    TetRestData other;
+    auto const nodes = RestNodes();
+    sink += internal::MakeTetRestData(nodes[0], nodes[1], nodes[2], nodes[3], other);
+  });
   REQUIRE(std::isfinite(sink));
-  REQUIRE(gNumAllocations.load() == 0);
+  REQUIRE(kernels.total == 0);
 }

@@ -19,114 +19,14 @@
 #include <superdex/linsolve/dense_solver.h>
 #include <superdex/linsolve/linear_solver.h>
 
+#include "allocation_recorder.h"
 #include "linsolve/test_systems.h"
-
-extern "C" {
-void* __libc_malloc(std::size_t size);
-void* __libc_calloc(std::size_t count, std::size_t size);
-void* __libc_realloc(void* pointer, std::size_t size);
-void* __libc_memalign(std::size_t alignment, std::size_t size);
-void __libc_free(void* pointer);
-}
-
-namespace {
-
-constexpr int kMaxRecorded = 1 << 14;
-std::atomic<bool> gRecording{false};
-std::atomic<int> gNumAllocations{0};
-void* gCallers[kMaxRecorded];
-
-// Called by every interposed allocator with the address it returns to.
-void Record(void* caller) {
-  if (!gRecording.load(std::memory_order_relaxed)) return;
-  int const index = gNumAllocations.fetch_add(1);
-  if (index < kMaxRecorded) gCallers[index] = caller;
-}
-
-}  // namespace
-
-extern "C" {
-void* malloc(std::size_t size) {
-  Record(__builtin_return_address(0));
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t count, std::size_t size) {
-  Record(__builtin_return_address(0));
-  return __libc_calloc(count, size);
-}
-void* realloc(void* pointer, std::size_t size) {
-  Record(__builtin_return_address(0));
-  return __libc_realloc(pointer, size);
-}
-void* memalign(std::size_t alignment, std::size_t size) {
-  Record(__builtin_return_address(0));
-  return __libc_memalign(alignment, size);
-}
-void* aligned_alloc(std::size_t alignment, std::size_t size) {
-  Record(__builtin_return_address(0));
-  return __libc_memalign(alignment, size);
-}
-int posix_memalign(void** pointer, std::size_t alignment, std::size_t size) {
-  Record(__builtin_return_address(0));
-  void* result = __libc_memalign(alignment, size);
-  if (result == nullptr) return ENOMEM;
-  *pointer = result;
-  return 0;
-}
-}
-
-void* operator new(std::size_t size) {
-  Record(__builtin_return_address(0));
-  if (void* pointer = __libc_malloc(size == 0 ? 1 : size)) return pointer;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  Record(__builtin_return_address(0));
-  if (void* pointer = __libc_malloc(size == 0 ? 1 : size)) return pointer;
-  throw std::bad_alloc();
-}
-void operator delete(void* pointer) noexcept {
-  __libc_free(pointer);
-}
-void operator delete[](void* pointer) noexcept {
-  __libc_free(pointer);
-}
-void operator delete(void* pointer, std::size_t) noexcept {
-  __libc_free(pointer);
-}
-void operator delete[](void* pointer, std::size_t) noexcept {
-  __libc_free(pointer);
-}
 
 namespace superdex {
 namespace {
 
-struct Allocations {
-  int total = 0;     ///< every allocation in the process during the call
-  int superdex = 0;  ///< those made by code in libsuperdex itself
-};
-
-/// Heap allocations made while `call` runs.
-template <class Call>
-Allocations CountAllocations(Call&& call) {
-  gNumAllocations = 0;
-  gRecording = true;
-  call();
-  gRecording = false;
-
-  Allocations counts;
-  counts.total = gNumAllocations.load();
-  REQUIRE(counts.total <= kMaxRecorded);
-  Dl_info library;
-  REQUIRE(dladdr(reinterpret_cast<void*>(&AvailableLinearSolvers), &library) != 0);
-  for (int i = 0; i < counts.total; ++i) {
-    Dl_info info;
-    if (dladdr(gCallers[i], &info) != 0 && info.dli_fbase == library.dli_fbase) {
-      ++counts.superdex;
-    }
-  }
-  return counts;
-}
+using test::Allocations;
+using test::CountAllocations;
 
 TEST_CASE("the allocation counter sees and attributes allocations", "[linsolve][allocation]") {
   // guards the tests below against an interposition that silently counts

@@ -1,28 +1,11 @@
 // Hot paths allocate nothing: once the pattern is built and the solver has
 // analyzed it, a whole step (snapshot, Newton iterations, assembly fill,
-// factorization, solve, line search, commit) performs no heap allocation
-// through operator new. (CHOLMOD's own workspace uses malloc and is reused
-// across factorizations by CHOLMOD itself.)
+// factorization, solve, line search, commit) makes no heap allocation from
+// SuperDex's own code (malloc or operator new; allocations inside CHOLMOD,
+// libgomp and OpenBLAS are theirs — docs/linear_solvers.md).
 #include "test_scenes.h"
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
-namespace {
-std::atomic<long> allocations{0};
-}
-
-void* operator new(std::size_t size) {
-  ++allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "allocation_recorder.h"
 
 using namespace superdex;
 using namespace superdex::test;
@@ -42,14 +25,14 @@ TEST_CASE("steps after the first allocate nothing", "[scene][allocation]") {
   REQUIRE(first->RegisterQuery(QueryType::ConstraintForce, error));
   StepOk(*chain.scene, 1e-3, 2);  // builds pattern, analysis, snapshots
 
-  long const before = allocations.load();
   int newtonIterations = 0;
-  for (int i = 0; i < 20; ++i) {
-    bool const ok = chain.scene->Step(1e-3, error);
-    newtonIterations += chain.scene->GetStats().newtonIterations;
-    if (!ok) break;
-  }
-  long const during = allocations.load() - before;
+  int const during = CountAllocations([&] {
+                       for (int i = 0; i < 20; ++i) {
+                         bool const ok = chain.scene->Step(1e-3, error);
+                         newtonIterations += chain.scene->GetStats().newtonIterations;
+                         if (!ok) break;
+                       }
+                     }).superdex;
   INFO(error.ToString());
   REQUIRE_FALSE(error);
   REQUIRE(newtonIterations >= 20);
@@ -83,13 +66,13 @@ TEST_CASE("deformable steps after the first allocate nothing", "[scene][allocati
   }
   StepOk(*scene, 1e-2, 2);
   REQUIRE(scene->GetStats().linearSolver.find("CHOLMOD") != std::string::npos);
-  long const before = allocations.load();
   int newtonIterations = 0;
-  for (int i = 0; i < 10; ++i) {
-    if (!scene->Step(1e-2, error)) break;
-    newtonIterations += scene->GetStats().newtonIterations;
-  }
-  long const during = allocations.load() - before;
+  int const during = CountAllocations([&] {
+                       for (int i = 0; i < 10; ++i) {
+                         if (!scene->Step(1e-2, error)) break;
+                         newtonIterations += scene->GetStats().newtonIterations;
+                       }
+                     }).superdex;
   INFO(error.ToString());
   REQUIRE_FALSE(error);
   REQUIRE(newtonIterations >= 10);
