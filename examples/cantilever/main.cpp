@@ -28,6 +28,9 @@
 #include <string>
 #include <string_view>
 
+#include "../common/command_line.h"
+#include "../common/output.h"
+
 using namespace superdex;
 
 namespace {
@@ -61,98 +64,20 @@ struct Options {
   int vtkEvery = 4;  // one .vtu every 4 steps: 15 frames/s at dt = 1/60
 };
 
-[[noreturn]] void Fail(std::string const& what) {
-  std::fprintf(stderr, "superdex_cantilever: %s\n", what.c_str());
-  std::exit(1);
-}
-
-[[noreturn]] void Fail(std::string const& what, Error const& error) {
-  Fail(what + ": " + error.ToString());
-}
-
-void PrintUsage(std::FILE* f) {
-  std::fprintf(f,
-               "usage: superdex_cantilever [--out DIR] [--dt S] [--time S] [--cells NX,NY,NZ]\n"
-               "                           [--young E] [--integrator be|bdf2] [--vtk-every N]\n"
-               "  --out DIR          output folder (default results/cantilever)\n"
-               "  --dt S             time step [s] (default 1/60)\n"
-               "  --time S           simulated time [s] (default 3)\n"
-               "  --cells NX,NY,NZ   cells along x (length), y and z (default 40,4,4)\n"
-               "  --young E          Young's modulus [Pa] (default 1e6)\n"
-               "  --integrator I     be (backward Euler) or bdf2 (default be)\n"
-               "  --vtk-every N      write a .vtu frame every N steps (default 4)\n");
-}
-
-real ParsePositive(std::string_view name, char const* text) {
-  char* end = nullptr;
-  double const value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value) || value <= 0)
-    Fail(std::string(name) + " needs a finite positive number, got '" + text + "'");
-  return static_cast<real>(value);
-}
-
-int ParseCount(std::string_view name, char const* text) {
-  char* end = nullptr;
-  long const value = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0' || value < 1 || value > 100000)
-    Fail(std::string(name) + " needs a positive integer, got '" + text + "'");
-  return static_cast<int>(value);
-}
-
-std::array<int, 3> ParseCells(char const* text) {
-  std::array<int, 3> cells{};
-  std::string const s = text;
-  std::size_t start = 0;
-  for (int k = 0; k < 3; ++k) {
-    std::size_t const comma = s.find(',', start);
-    if ((k < 2) != (comma != std::string::npos))
-      Fail("--cells needs three positive integers NX,NY,NZ, got '" + s + "'");
-    std::string const part = s.substr(start, k < 2 ? comma - start : std::string::npos);
-    cells[k] = ParseCount("--cells", part.c_str());
-    start = comma + 1;
-  }
-  return cells;
-}
+using examples::Fail;
 
 Options ParseOptions(int argc, char** argv) {
-  Options options;
-  for (int i = 1; i < argc; ++i) {
-    std::string_view const arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      PrintUsage(stdout);
-      std::exit(0);
-    }
-    if (i + 1 >= argc) {
-      PrintUsage(stderr);
-      Fail("missing value for '" + std::string(arg) + "'");
-    }
-    char const* value = argv[++i];
-    if (arg == "--out") {
-      options.out = value;
-    } else if (arg == "--dt") {
-      options.dt = ParsePositive(arg, value);
-    } else if (arg == "--time") {
-      options.time = ParsePositive(arg, value);
-    } else if (arg == "--cells") {
-      options.cells = ParseCells(value);
-    } else if (arg == "--young") {
-      options.youngModulus = ParsePositive(arg, value);
-    } else if (arg == "--vtk-every") {
-      options.vtkEvery = ParseCount(arg, value);
-    } else if (arg == "--integrator") {
-      std::string_view const v = value;
-      if (v == "be")
-        options.integrator = IntegratorType::BackwardEuler;
-      else if (v == "bdf2")
-        options.integrator = IntegratorType::Bdf2;
-      else
-        Fail("--integrator must be 'be' or 'bdf2', got '" + std::string(v) + "'");
-    } else {
-      PrintUsage(stderr);
-      Fail("unknown option '" + std::string(arg) + "'");
-    }
-  }
-  return options;
+  Options o;
+  examples::CommandLine("superdex_cantilever")
+      .Text("--out", "DIR", o.out, "output folder (default results/cantilever)")
+      .Number("--dt", "S", o.dt, "time step [s] (default 1/60)")
+      .Number("--time", "S", o.time, "simulated time [s] (default 3)")
+      .Counts("--cells", "NX,NY,NZ", o.cells, "cells along x (length), y and z (default 40,4,4)")
+      .Number("--young", "E", o.youngModulus, "Young's modulus [Pa] (default 1e6)")
+      .Integrator("--integrator", o.integrator, "backward Euler or BDF2 (default be)")
+      .Count("--vtk-every", "N", o.vtkEvery, "write a .vtu frame every N steps (default 4)")
+      .Parse(argc, argv);
+  return o;
 }
 
 // The beam [0, L] × [−h/2, h/2]² (Kuhn-cut cells) with every node of the
@@ -205,30 +130,6 @@ Real3 TipDisplacement(Beam const& beam) {
   return sum / static_cast<real>(beam.tip.size());
 }
 
-// One .vtu of the beam: world positions, the tets, and per node the
-// displacement (magnitude and vector) and the velocity.
-void WriteBeamVtu(DeformableActor const& beam, std::string const& path) {
-  DynamicArray<VtkPointData> pointData(3);
-  pointData[0].name = "displacement_magnitude";
-  pointData[1].name = "displacement";
-  pointData[1].components = 3;
-  pointData[2].name = "velocity";
-  pointData[2].components = 3;
-  int const n = beam.GetNumNodes();
-  for (auto& array : pointData) array.values.resize(static_cast<std::size_t>(array.components * n));
-  for (int i = 0; i < n; ++i) {
-    Real3 const u = beam.GetNodeDisplacement(i), v = beam.GetNodeVelocity(i);
-    pointData[0].values[i] = u.norm();
-    for (int k = 0; k < 3; ++k) {
-      pointData[1].values[3 * i + k] = u[k];
-      pointData[2].values[3 * i + k] = v[k];
-    }
-  }
-  Error error;
-  if (!WriteVtu(path, beam.GetNodePositions(), beam.GetTetrahedra(), {}, pointData, error))
-    Fail("WriteVtu", error);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -246,12 +147,8 @@ int main(int argc, char** argv) {
 
   // ---- output ----
   std::filesystem::path const outDir(options.out);
-  std::error_code fsError;
-  std::filesystem::create_directories(outDir, fsError);
-  if (fsError) Fail("cannot create '" + outDir.string() + "': " + fsError.message());
   std::filesystem::path const csvPath = outDir / "cantilever.csv";
-  std::FILE* csv = std::fopen(csvPath.string().c_str(), "w");
-  if (!csv) Fail("cannot write '" + csvPath.string() + "'");
+  std::FILE* csv = examples::OpenOutputFile(csvPath);
   std::fprintf(csv,
                "t,tip_dx,tip_dy,tip_dz,tip_deflection,kinetic,elastic,potential,total,"
                "clamp_fx,clamp_fy,clamp_fz,inverted,newton_iterations\n");
@@ -292,7 +189,7 @@ int main(int argc, char** argv) {
   auto writeFrame = [&]() {
     char name[64];
     std::snprintf(name, sizeof name, "cantilever_%04d.vtu", series.GetNumFrames());
-    WriteBeamVtu(*beam, (outDir / name).string());
+    examples::WriteDeformableVtu(*beam, (outDir / name).string());
     if (!series.AddFrame(scene->GetTime(), name, error)) Fail("VtkSeries::AddFrame", error);
   };
 
@@ -327,16 +224,7 @@ int main(int argc, char** argv) {
   int newtonMax = 0;
   real maxDeflection = 0;
   for (int step = 0; step < numSteps; ++step) {
-    auto const start = std::chrono::steady_clock::now();
-    bool const ok = scene->Step(options.dt, error);
-    stepSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!ok) {
-      std::fclose(csv);
-      char where[96];
-      std::snprintf(where, sizeof where, "Scene::Step failed at step %d (t = %.6f s)", step + 1,
-                    scene->GetTime());
-      Fail(where, error);
-    }
+    examples::TimedStep(*scene, options.dt, step + 1, stepSeconds, csv);
     SceneStats const& stats = scene->GetStats();
     newtonTotal += stats.newtonIterations;
     newtonMax = std::max(newtonMax, stats.newtonIterations);
@@ -371,10 +259,9 @@ int main(int argc, char** argv) {
   double const staticSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - staticStart).count();
   Real3 const staticTip = TipDisplacement(rest);
-  WriteBeamVtu(*rest.actor, (outDir / "cantilever_static.vtu").string());
+  examples::WriteDeformableVtu(*rest.actor, (outDir / "cantilever_static.vtu").string());
   std::filesystem::path const referencePath = outDir / "cantilever_reference.csv";
-  std::FILE* reference = std::fopen(referencePath.string().c_str(), "w");
-  if (!reference) Fail("cannot write '" + referencePath.string() + "'");
+  std::FILE* reference = examples::OpenOutputFile(referencePath);
   std::fprintf(reference,
                "length,side,young,static_tip_dx,static_tip_dy,static_tip_deflection,"
                "euler_bernoulli\n%g,%g,%g,%.9g,%.9g,%.9g,%.9g\n",

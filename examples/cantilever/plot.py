@@ -24,54 +24,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
-# the 4 faces of a tetrahedron, as node positions within it
-TET_FACES = ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3))
-
-
-def read_pvd(path):
-    """[(time, absolute .vtu path)] in file order."""
-    root = ET.parse(path).getroot()
-    folder = os.path.dirname(path)
-    return [
-        (float(d.get("timestep")), os.path.join(folder, d.get("file")))
-        for d in root.iter("DataSet")
-    ]
-
-
-def read_vtu(path):
-    """points (n×3), tetrahedra (m×4) and the point arrays (name → n×k) of an
-    ASCII .vtu as superdex::WriteVtu writes it."""
-    piece = ET.parse(path).getroot().find("UnstructuredGrid/Piece")
-
-    def values(array, dtype=float):
-        return np.array(array.text.split(), dtype=dtype)
-
-    points = values(piece.find("Points/DataArray")).reshape(-1, 3)
-    cells = {a.get("Name"): a for a in piece.find("Cells")}
-    connectivity = values(cells["connectivity"], int)
-    offsets = values(cells["offsets"], int)
-    types = values(cells["types"], int)
-    starts = np.concatenate([[0], offsets[:-1]])
-    tets = np.array([connectivity[s:s + 4] for s, t in zip(starts, types) if t == 10], dtype=int)
-    data = {}
-    point_data = piece.find("PointData")
-    for array in [] if point_data is None else point_data:
-        k = int(array.get("NumberOfComponents", "1"))
-        data[array.get("Name")] = values(array).reshape(-1, k).squeeze()
-    return points, tets.reshape(-1, 4), data
-
-
-def front_faces(tets, reference):
-    """The tets' faces on the side z = max of the reference (undeformed) beam."""
-    zmax = reference[:, 2].max()
-    on_front = reference[:, 2] > zmax - 1e-9 * (1 + abs(zmax))
-    faces = []
-    for tet in tets:
-        for f in TET_FACES:
-            face = tet[list(f)]
-            if on_front[face].all():
-                faces.append(face)
-    return np.array(faces, dtype=int)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from vtu import VTK_TETRA, front_faces, read_pvd, read_vtu  # noqa: E402
 
 
 def centre_line(points, reference):
@@ -97,8 +51,8 @@ def main():
             os.path.join(args.dir, "cantilever_reference.csv"), delimiter=",", names=True
         )
         frames = read_pvd(os.path.join(args.dir, "cantilever.pvd"))
-        static_points, _, static_data = read_vtu(os.path.join(args.dir, "cantilever_static.vtu"))
-        last_points, tets, last_data = read_vtu(frames[-1][1])
+        static_points, _, static_data = read_vtu(os.path.join(args.dir, "cantilever_static.vtu"), VTK_TETRA)
+        last_points, tets, last_data = read_vtu(frames[-1][1], VTK_TETRA)
     except (OSError, ET.ParseError, KeyError, IndexError) as e:
         sys.exit(f"plot.py: cannot read the output in {args.dir}: {e}")
     if data.size < 2:
@@ -125,7 +79,7 @@ def main():
     step = max(1, len(frames) // 12)
     shown = frames[::step][:-1]
     for i, (time, path) in enumerate(shown):
-        points, _, fdata = read_vtu(path)
+        points, _, fdata = read_vtu(path, VTK_TETRA)
         line = centre_line(points, points - fdata["displacement"])
         ax_view.plot(
             line[:, 0], line[:, 1], lw=0.8, color=cmap(0.25 + 0.5 * i / max(1, len(shown) - 1))

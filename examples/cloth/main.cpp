@@ -25,6 +25,9 @@
 #include <string>
 #include <string_view>
 
+#include "../common/command_line.h"
+#include "../common/output.h"
+
 using namespace superdex;
 
 namespace {
@@ -52,107 +55,20 @@ struct Options {
   int vtkEvery = 4;  // one .vtu every 4 steps: 15 frames/s at dt = 1/60
 };
 
-[[noreturn]] void Fail(std::string const& what) {
-  std::fprintf(stderr, "superdex_cloth: %s\n", what.c_str());
-  std::exit(1);
-}
-
-[[noreturn]] void Fail(std::string const& what, Error const& error) {
-  Fail(what + ": " + error.ToString());
-}
-
-void PrintUsage(std::FILE* f) {
-  std::fprintf(f,
-               "usage: superdex_cloth [--out DIR] [--dt S] [--time S] [--cells N]\n"
-               "                      [--integrator be|bdf2] [--max-newton N] [--vtk-every N]\n"
-               "  --out DIR          output folder (default results/cloth)\n"
-               "  --dt S             time step [s] (default 1/60)\n"
-               "  --time S           simulated time [s] (default 4)\n"
-               "  --cells N          N x N quads, 2 triangles each (default 20)\n"
-               "  --integrator I     be (backward Euler) or bdf2 (default be)\n"
-               "  --max-newton N     Newton iteration cap per stage (default 300)\n"
-               "  --vtk-every N      write a .vtu frame every N steps (default 4)\n");
-}
-
-real ParsePositive(std::string_view name, char const* text) {
-  char* end = nullptr;
-  double const value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value) || value <= 0)
-    Fail(std::string(name) + " needs a finite positive number, got '" + text + "'");
-  return static_cast<real>(value);
-}
-
-int ParseCount(std::string_view name, char const* text) {
-  char* end = nullptr;
-  long const value = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0' || value < 1 || value > 100000)
-    Fail(std::string(name) + " needs a positive integer, got '" + text + "'");
-  return static_cast<int>(value);
-}
+using examples::Fail;
 
 Options ParseOptions(int argc, char** argv) {
-  Options options;
-  for (int i = 1; i < argc; ++i) {
-    std::string_view const arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      PrintUsage(stdout);
-      std::exit(0);
-    }
-    if (i + 1 >= argc) {
-      PrintUsage(stderr);
-      Fail("missing value for '" + std::string(arg) + "'");
-    }
-    char const* value = argv[++i];
-    if (arg == "--out") {
-      options.out = value;
-    } else if (arg == "--dt") {
-      options.dt = ParsePositive(arg, value);
-    } else if (arg == "--time") {
-      options.time = ParsePositive(arg, value);
-    } else if (arg == "--cells") {
-      options.cells = ParseCount(arg, value);
-    } else if (arg == "--max-newton") {
-      options.maxNewton = ParseCount(arg, value);
-    } else if (arg == "--vtk-every") {
-      options.vtkEvery = ParseCount(arg, value);
-    } else if (arg == "--integrator") {
-      std::string_view const v = value;
-      if (v == "be")
-        options.integrator = IntegratorType::BackwardEuler;
-      else if (v == "bdf2")
-        options.integrator = IntegratorType::Bdf2;
-      else
-        Fail("--integrator must be 'be' or 'bdf2', got '" + std::string(v) + "'");
-    } else {
-      PrintUsage(stderr);
-      Fail("unknown option '" + std::string(arg) + "'");
-    }
-  }
-  return options;
-}
-
-// One .vtu of the sheet: world positions, the triangles, and per node the
-// displacement (magnitude and vector) and the velocity.
-void WriteClothVtu(DeformableActor const& cloth, std::string const& path) {
-  DynamicArray<VtkPointData> pointData(3);
-  pointData[0].name = "displacement_magnitude";
-  pointData[1].name = "displacement";
-  pointData[1].components = 3;
-  pointData[2].name = "velocity";
-  pointData[2].components = 3;
-  int const n = cloth.GetNumNodes();
-  for (auto& array : pointData) array.values.resize(static_cast<std::size_t>(array.components * n));
-  for (int i = 0; i < n; ++i) {
-    Real3 const u = cloth.GetNodeDisplacement(i), v = cloth.GetNodeVelocity(i);
-    pointData[0].values[i] = u.norm();
-    for (int k = 0; k < 3; ++k) {
-      pointData[1].values[3 * i + k] = u[k];
-      pointData[2].values[3 * i + k] = v[k];
-    }
-  }
-  Error error;
-  if (!WriteVtu(path, cloth.GetNodePositions(), {}, cloth.GetTriangles(), pointData, error))
-    Fail("WriteVtu", error);
+  Options o;
+  examples::CommandLine("superdex_cloth")
+      .Text("--out", "DIR", o.out, "output folder (default results/cloth)")
+      .Number("--dt", "S", o.dt, "time step [s] (default 1/60)")
+      .Number("--time", "S", o.time, "simulated time [s] (default 4)")
+      .Count("--cells", "N", o.cells, "N x N quads, 2 triangles each (default 20)")
+      .Integrator("--integrator", o.integrator, "backward Euler or BDF2 (default be)")
+      .Count("--max-newton", "N", o.maxNewton, "Newton iteration cap per stage (default 300)")
+      .Count("--vtk-every", "N", o.vtkEvery, "write a .vtu frame every N steps (default 4)")
+      .Parse(argc, argv);
+  return o;
 }
 
 }  // namespace
@@ -202,12 +118,8 @@ int main(int argc, char** argv) {
 
   // ---- output ----
   std::filesystem::path const outDir(options.out);
-  std::error_code fsError;
-  std::filesystem::create_directories(outDir, fsError);
-  if (fsError) Fail("cannot create '" + outDir.string() + "': " + fsError.message());
   std::filesystem::path const csvPath = outDir / "cloth.csv";
-  std::FILE* csv = std::fopen(csvPath.string().c_str(), "w");
-  if (!csv) Fail("cannot write '" + csvPath.string() + "'");
+  std::FILE* csv = examples::OpenOutputFile(csvPath);
   std::fprintf(csv,
                "t,kinetic,elastic,potential,total,pin0_fx,pin0_fy,pin0_fz,pin1_fx,pin1_fy,"
                "pin1_fz,weight,lowest_y,max_stretch,newton_iterations\n");
@@ -261,7 +173,7 @@ int main(int argc, char** argv) {
   auto writeFrame = [&]() {
     char name[64];
     std::snprintf(name, sizeof name, "cloth_%04d.vtu", series.GetNumFrames());
-    WriteClothVtu(*cloth, (outDir / name).string());
+    examples::WriteDeformableVtu(*cloth, (outDir / name).string());
     if (!series.AddFrame(scene->GetTime(), name, error)) Fail("VtkSeries::AddFrame", error);
   };
 
@@ -290,16 +202,7 @@ int main(int argc, char** argv) {
   int newtonMax = 0, newtonMaxStep = 0;
   real worstStretch = 0, lowestEver = 0;
   for (int step = 0; step < numSteps; ++step) {
-    auto const start = std::chrono::steady_clock::now();
-    bool const ok = scene->Step(options.dt, error);
-    stepSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!ok) {
-      std::fclose(csv);
-      char where[96];
-      std::snprintf(where, sizeof where, "Scene::Step failed at step %d (t = %.6f s)", step + 1,
-                    scene->GetTime());
-      Fail(where, error);
-    }
+    examples::TimedStep(*scene, options.dt, step + 1, stepSeconds, csv);
     SceneStats const& stats = scene->GetStats();
     newtonTotal += stats.newtonIterations;
     if (stats.newtonIterations > newtonMax) {

@@ -22,37 +22,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 
-def read_pvd(path):
-    """[(time, absolute .vtu path)] in file order."""
-    root = ET.parse(path).getroot()
-    folder = os.path.dirname(path)
-    return [
-        (float(d.get("timestep")), os.path.join(folder, d.get("file")))
-        for d in root.iter("DataSet")
-    ]
-
-
-def read_vtu(path):
-    """points (n×3), triangles (m×3) and the point arrays (name → n×k) of an
-    ASCII .vtu as superdex::WriteVtu writes it."""
-    piece = ET.parse(path).getroot().find("UnstructuredGrid/Piece")
-
-    def values(array, dtype=float):
-        return np.array(array.text.split(), dtype=dtype)
-
-    points = values(piece.find("Points/DataArray")).reshape(-1, 3)
-    cells = {a.get("Name"): a for a in piece.find("Cells")}
-    connectivity = values(cells["connectivity"], int)
-    offsets = values(cells["offsets"], int)
-    types = values(cells["types"], int)
-    starts = np.concatenate([[0], offsets[:-1]])
-    tris = np.array([connectivity[s:s + 3] for s, t in zip(starts, types) if t == 5], dtype=int)
-    data = {}
-    point_data = piece.find("PointData")
-    for array in [] if point_data is None else point_data:
-        k = int(array.get("NumberOfComponents", "1"))
-        data[array.get("Name")] = values(array).reshape(-1, k).squeeze()
-    return points, tris.reshape(-1, 3), data
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from vtu import VTK_TRIANGLE, read_pvd, read_vtu  # noqa: E402
 
 
 def main():
@@ -66,7 +37,7 @@ def main():
     try:
         data = np.genfromtxt(csv_path, delimiter=",", names=True)
         frames = read_pvd(os.path.join(args.dir, "cloth.pvd"))
-        points, tris, _ = read_vtu(frames[-1][1])
+        points, tris, _ = read_vtu(frames[-1][1], VTK_TRIANGLE)
     except (OSError, ET.ParseError, KeyError, IndexError) as e:
         sys.exit(f"plot.py: cannot read the output in {args.dir}: {e}")
     if data.size < 2:
@@ -91,7 +62,7 @@ def main():
                 label="pinned corners")
     # paths of the two free corners over all frames: the sheet swings about
     # the line through the pins (a hinge) to the far side z > 1 and back
-    corners = np.array([read_vtu(path)[0][[0, n_side]] for _, path in frames])
+    corners = np.array([read_vtu(path, VTK_TRIANGLE)[0][[0, n_side]] for _, path in frames])
     for k, name in enumerate(("(0, 0, 0)", "(1, 0, 0)")):
         ax3.plot(corners[:, k, 0], corners[:, k, 2], corners[:, k, 1], lw=0.9,
                  color=("tab:orange", "tab:red")[k], label=f"path of free corner {name}")

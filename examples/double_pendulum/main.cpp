@@ -21,6 +21,9 @@
 #include <string>
 #include <string_view>
 
+#include "../common/command_line.h"
+#include "../common/output.h"
+
 using namespace superdex;
 
 namespace {
@@ -51,69 +54,18 @@ struct Options {
   real stiffness = 1e7;
 };
 
-[[noreturn]] void Fail(std::string const& what) {
-  std::fprintf(stderr, "superdex_double_pendulum: %s\n", what.c_str());
-  std::exit(1);
-}
-
-[[noreturn]] void Fail(std::string const& what, Error const& error) {
-  Fail(what + ": " + error.ToString());
-}
-
-void PrintUsage(std::FILE* f) {
-  std::fprintf(f,
-               "usage: superdex_double_pendulum [--out DIR] [--dt S] [--time S]\n"
-               "                                [--integrator be|bdf2] [--stiffness K]\n"
-               "  --out DIR          output folder (default results/double_pendulum)\n"
-               "  --dt S             time step [s] (default 1e-3)\n"
-               "  --time S           simulated time [s] (default 10)\n"
-               "  --integrator I     be (backward Euler) or bdf2 (default bdf2)\n"
-               "  --stiffness K      joint stiffness [N/m] (default 1e7)\n");
-}
-
-real ParsePositive(std::string_view name, char const* text) {
-  char* end = nullptr;
-  double const value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value) || value <= 0)
-    Fail(std::string(name) + " needs a finite positive number, got '" + text + "'");
-  return static_cast<real>(value);
-}
+using examples::Fail;
 
 Options ParseOptions(int argc, char** argv) {
-  Options options;
-  for (int i = 1; i < argc; ++i) {
-    std::string_view const arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      PrintUsage(stdout);
-      std::exit(0);
-    }
-    if (i + 1 >= argc) {
-      PrintUsage(stderr);
-      Fail("missing value for '" + std::string(arg) + "'");
-    }
-    char const* value = argv[++i];
-    if (arg == "--out") {
-      options.out = value;
-    } else if (arg == "--dt") {
-      options.dt = ParsePositive(arg, value);
-    } else if (arg == "--time") {
-      options.time = ParsePositive(arg, value);
-    } else if (arg == "--stiffness") {
-      options.stiffness = ParsePositive(arg, value);
-    } else if (arg == "--integrator") {
-      std::string_view const v = value;
-      if (v == "be")
-        options.integrator = IntegratorType::BackwardEuler;
-      else if (v == "bdf2")
-        options.integrator = IntegratorType::Bdf2;
-      else
-        Fail("--integrator must be 'be' or 'bdf2', got '" + std::string(v) + "'");
-    } else {
-      PrintUsage(stderr);
-      Fail("unknown option '" + std::string(arg) + "'");
-    }
-  }
-  return options;
+  Options o;
+  examples::CommandLine("superdex_double_pendulum")
+      .Text("--out", "DIR", o.out, "output folder (default results/double_pendulum)")
+      .Number("--dt", "S", o.dt, "time step [s] (default 1e-3)")
+      .Number("--time", "S", o.time, "simulated time [s] (default 10)")
+      .Integrator("--integrator", o.integrator, "backward Euler or BDF2 (default bdf2)")
+      .Number("--stiffness", "K", o.stiffness, "joint stiffness [N/m] (default 1e7)")
+      .Parse(argc, argv);
+  return o;
 }
 
 real DeviationNorm(Constraint const& c) {
@@ -177,12 +129,8 @@ int main(int argc, char** argv) {
 
   // ---- output ----
   std::filesystem::path const outDir(options.out);
-  std::error_code fsError;
-  std::filesystem::create_directories(outDir, fsError);
-  if (fsError) Fail("cannot create '" + outDir.string() + "': " + fsError.message());
   std::filesystem::path const csvPath = outDir / "double_pendulum.csv";
-  std::FILE* csv = std::fopen(csvPath.string().c_str(), "w");
-  if (!csv) Fail("cannot write '" + csvPath.string() + "'");
+  std::FILE* csv = examples::OpenOutputFile(csvPath);
   std::fprintf(csv,
                "t,x1,y1,x2,y2,kinetic,potential,elastic,total,"
                "pivot_deviation,joint_deviation,newton_iterations\n");
@@ -232,16 +180,7 @@ int main(int argc, char** argv) {
   real minEnergy = initial.total, maxEnergy = initial.total;
   Energies last = initial;
   for (int step = 0; step < numSteps; ++step) {
-    auto const start = std::chrono::steady_clock::now();
-    bool const ok = scene->Step(options.dt, error);
-    stepSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!ok) {
-      std::fclose(csv);
-      char where[96];
-      std::snprintf(where, sizeof where, "Scene::Step failed at step %d (t = %.6f s)", step + 1,
-                    scene->GetTime());
-      Fail(where, error);
-    }
+    examples::TimedStep(*scene, options.dt, step + 1, stepSeconds, csv);
     int const iterations = scene->GetStats().newtonIterations;
     newtonTotal += iterations;
     newtonMax = std::max(newtonMax, iterations);

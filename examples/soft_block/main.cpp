@@ -30,6 +30,9 @@
 #include <string_view>
 #include <utility>
 
+#include "../common/command_line.h"
+#include "../common/output.h"
+
 using namespace superdex;
 
 namespace {
@@ -68,92 +71,23 @@ struct Options {
   real upright = 0;
 };
 
-[[noreturn]] void Fail(std::string const& what) {
-  std::fprintf(stderr, "superdex_soft_block: %s\n", what.c_str());
-  std::exit(1);
-}
-
-[[noreturn]] void Fail(std::string const& what, Error const& error) {
-  Fail(what + ": " + error.ToString());
-}
-
-void PrintUsage(std::FILE* f) {
-  std::fprintf(f,
-               "usage: superdex_soft_block [--out DIR] [--dt S] [--time S] [--cells N]\n"
-               "                           [--integrator be|bdf2] [--upright K] [--vtk-every N]\n"
-               "  --out DIR          output folder (default results/soft_block)\n"
-               "  --dt S             time step [s] (default 1/60)\n"
-               "  --time S           simulated time [s] (default 4)\n"
-               "  --cells N          N x N x N cells, 6 tets each (default 6)\n"
-               "  --integrator I     be (backward Euler) or bdf2 (default be)\n"
-               "  --upright K        keep the handle upright with a RigidPivotRotation of\n"
-               "                     stiffness K [N m/rad] (default 0: none, it swings)\n"
-               "  --vtk-every N      write a .vtu frame every N steps (default 3)\n");
-}
-
-real ParsePositive(std::string_view name, char const* text) {
-  char* end = nullptr;
-  double const value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value) || value <= 0)
-    Fail(std::string(name) + " needs a finite positive number, got '" + text + "'");
-  return static_cast<real>(value);
-}
-
-real ParseNonNegative(std::string_view name, char const* text) {
-  char* end = nullptr;
-  double const value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value) || value < 0)
-    Fail(std::string(name) + " needs a finite number >= 0, got '" + text + "'");
-  return static_cast<real>(value);
-}
-
-int ParseCount(std::string_view name, char const* text) {
-  char* end = nullptr;
-  long const value = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0' || value < 1 || value > 100000)
-    Fail(std::string(name) + " needs a positive integer, got '" + text + "'");
-  return static_cast<int>(value);
-}
+using examples::Fail;
 
 Options ParseOptions(int argc, char** argv) {
-  Options options;
-  for (int i = 1; i < argc; ++i) {
-    std::string_view const arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      PrintUsage(stdout);
-      std::exit(0);
-    }
-    if (i + 1 >= argc) {
-      PrintUsage(stderr);
-      Fail("missing value for '" + std::string(arg) + "'");
-    }
-    char const* value = argv[++i];
-    if (arg == "--out") {
-      options.out = value;
-    } else if (arg == "--dt") {
-      options.dt = ParsePositive(arg, value);
-    } else if (arg == "--time") {
-      options.time = ParsePositive(arg, value);
-    } else if (arg == "--cells") {
-      options.cells = ParseCount(arg, value);
-    } else if (arg == "--upright") {
-      options.upright = ParseNonNegative(arg, value);
-    } else if (arg == "--vtk-every") {
-      options.vtkEvery = ParseCount(arg, value);
-    } else if (arg == "--integrator") {
-      std::string_view const v = value;
-      if (v == "be")
-        options.integrator = IntegratorType::BackwardEuler;
-      else if (v == "bdf2")
-        options.integrator = IntegratorType::Bdf2;
-      else
-        Fail("--integrator must be 'be' or 'bdf2', got '" + std::string(v) + "'");
-    } else {
-      PrintUsage(stderr);
-      Fail("unknown option '" + std::string(arg) + "'");
-    }
-  }
-  return options;
+  Options o;
+  examples::CommandLine("superdex_soft_block")
+      .Text("--out", "DIR", o.out, "output folder (default results/soft_block)")
+      .Number("--dt", "S", o.dt, "time step [s] (default 1/60)")
+      .Number("--time", "S", o.time, "simulated time [s] (default 4)")
+      .Count("--cells", "N", o.cells, "N x N x N cells, 6 tets each (default 6)")
+      .Integrator("--integrator", o.integrator, "backward Euler or BDF2 (default be)")
+      .Number("--upright", "K", o.upright,
+              "keep the handle upright with a RigidPivotRotation of stiffness K [N m/rad] "
+              "(default 0: none, it swings)",
+              /*allowZero=*/true)
+      .Count("--vtk-every", "N", o.vtkEvery, "write a .vtu frame every N steps (default 3)")
+      .Parse(argc, argv);
+  return o;
 }
 
 // 10τ³ − 15τ⁴ + 6τ⁵ on τ = (t − start)/(end − start) clamped to [0, 1]
@@ -242,12 +176,8 @@ int main(int argc, char** argv) {
 
   // ---- output ----
   std::filesystem::path const outDir(options.out);
-  std::error_code fsError;
-  std::filesystem::create_directories(outDir, fsError);
-  if (fsError) Fail("cannot create '" + outDir.string() + "': " + fsError.message());
   std::filesystem::path const csvPath = outDir / "soft_block.csv";
-  std::FILE* csv = std::fopen(csvPath.string().c_str(), "w");
-  if (!csv) Fail("cannot write '" + csvPath.string() + "'");
+  std::FILE* csv = examples::OpenOutputFile(csvPath);
   std::fprintf(
       csv,
       "t,target_x,target_y,target_z,handle_x,handle_y,handle_z,handle_angle,com_x,com_y,com_z,"
@@ -335,33 +265,22 @@ int main(int argc, char** argv) {
     }
   };
 
-  // one .vtu: positions, the tets, and per node the displacement, the
-  // deformation (displacement less the handle's) and the velocity
-  DynamicArray<VtkPointData> pointData(4);
-  pointData[0].name = "deformation_magnitude";
-  pointData[1].name = "deformation";
-  pointData[1].components = 3;
-  pointData[2].name = "displacement";
-  pointData[2].components = 3;
-  pointData[3].name = "velocity";
-  pointData[3].components = 3;
-  for (auto& array : pointData) array.values.resize(static_cast<std::size_t>(array.components * n));
+  // one .vtu: the standard node arrays, plus the deformation (displacement
+  // less the handle's rigid carry)
+  DynamicArray<VtkPointData> deformationData(2);
+  deformationData[0].name = "deformation_magnitude";
+  deformationData[1].name = "deformation";
+  deformationData[1].components = 3;
   auto writeFrame = [&]() {
+    for (auto& array : deformationData) array.values.assign(static_cast<std::size_t>(array.components * n), 0);
     for (int i = 0; i < n; ++i) {
-      Real3 const d = deformation(i), u = block->GetNodeDisplacement(i),
-                  v = block->GetNodeVelocity(i);
-      pointData[0].values[i] = d.norm();
-      for (int k = 0; k < 3; ++k) {
-        pointData[1].values[3 * i + k] = d[k];
-        pointData[2].values[3 * i + k] = u[k];
-        pointData[3].values[3 * i + k] = v[k];
-      }
+      Real3 const d = deformation(i);
+      deformationData[0].values[i] = d.norm();
+      for (int k = 0; k < 3; ++k) deformationData[1].values[3 * i + k] = d[k];
     }
     char name[64];
     std::snprintf(name, sizeof name, "soft_block_%04d.vtu", series.GetNumFrames());
-    if (!WriteVtu((outDir / name).string(), block->GetNodePositions(), block->GetTetrahedra(), {},
-                  pointData, error))
-      Fail("WriteVtu", error);
+    examples::WriteDeformableVtu(*block, (outDir / name).string(), deformationData);
     if (!series.AddFrame(scene->GetTime(), name, error)) Fail("VtkSeries::AddFrame", error);
   };
 
@@ -399,16 +318,7 @@ int main(int argc, char** argv) {
     // the target of the stage is the one at its end time
     if (!hold->SetTargetPosition(TargetAt(start, scene->GetTime() + options.dt), error))
       Fail("SetTargetPosition", error);
-    auto const t0 = std::chrono::steady_clock::now();
-    bool const ok = scene->Step(options.dt, error);
-    stepSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!ok) {
-      std::fclose(csv);
-      char where[96];
-      std::snprintf(where, sizeof where, "Scene::Step failed at step %d (t = %.6f s)", step,
-                    scene->GetTime());
-      Fail(where, error);
-    }
+    examples::TimedStep(*scene, options.dt, step, stepSeconds, csv);
     int const iterations = scene->GetStats().newtonIterations;
     newtonTotal += iterations;
     newtonMax = std::max(newtonMax, iterations);

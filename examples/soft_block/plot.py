@@ -25,54 +25,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
-# the 4 faces of a tetrahedron, as node positions within it
-TET_FACES = ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3))
-
-
-def read_pvd(path):
-    """[(time, absolute .vtu path)] in file order."""
-    root = ET.parse(path).getroot()
-    folder = os.path.dirname(path)
-    return [
-        (float(d.get("timestep")), os.path.join(folder, d.get("file")))
-        for d in root.iter("DataSet")
-    ]
-
-
-def read_vtu(path):
-    """points (n×3), tetrahedra (m×4) and the point arrays (name → n×k) of an
-    ASCII .vtu as superdex::WriteVtu writes it."""
-    piece = ET.parse(path).getroot().find("UnstructuredGrid/Piece")
-
-    def values(array, dtype=float):
-        return np.array(array.text.split(), dtype=dtype)
-
-    points = values(piece.find("Points/DataArray")).reshape(-1, 3)
-    cells = {a.get("Name"): a for a in piece.find("Cells")}
-    connectivity = values(cells["connectivity"], int)
-    offsets = values(cells["offsets"], int)
-    types = values(cells["types"], int)
-    starts = np.concatenate([[0], offsets[:-1]])
-    tets = np.array([connectivity[s:s + 4] for s, t in zip(starts, types) if t == 10], dtype=int)
-    data = {}
-    point_data = piece.find("PointData")
-    for array in [] if point_data is None else point_data:
-        k = int(array.get("NumberOfComponents", "1"))
-        data[array.get("Name")] = values(array).reshape(-1, k).squeeze()
-    return points, tets.reshape(-1, 4), data
-
-
-def front_faces(tets, reference):
-    """The tets' faces on the side z = max of the reference block."""
-    zmax = reference[:, 2].max()
-    on_front = reference[:, 2] > zmax - 1e-9 * (1 + abs(zmax))
-    faces = []
-    for tet in tets:
-        for f in TET_FACES:
-            face = tet[list(f)]
-            if on_front[face].all():
-                faces.append(face)
-    return np.array(faces, dtype=int)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from vtu import VTK_TETRA, front_faces, read_pvd, read_vtu  # noqa: E402
 
 
 def outline(faces):
@@ -116,7 +70,7 @@ def main():
             wanted.append(i)
     views = []
     for i in wanted:
-        points, tets, fdata = read_vtu(frames[i][1])
+        points, tets, fdata = read_vtu(frames[i][1], VTK_TETRA)
         views.append((frame_times[i], points, tets, fdata))
     reference = views[0][1] - views[0][3]["displacement"]
     faces = front_faces(views[0][2], reference)
