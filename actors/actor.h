@@ -57,6 +57,13 @@ class Actor {
   /// Number of Hessian contributors this actor adds and their DoF lists
   /// (global indices), appended in a fixed order.
   virtual void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const = 0;
+  /// Writes this actor's rows [offset, offset + n) of the scene's rigid-body
+  /// modes at the current configuration: `modes` is numDofs × 6, columns the
+  /// world translations along x, y, z and the infinitesimal world rotations
+  /// about the x, y, z axes through the origin, expressed in each actor's
+  /// DoFs (the near-null space of elasticity for AMG). The default leaves the
+  /// rows untouched (zero: DoFs without a rigid-body meaning).
+  virtual void WriteRigidBodyModes(Eigen::Ref<MatrixX> /*modes*/) const {}
 
   /// Prepares a stage from the committed state: start configuration,
   /// inertial target and weight (from the integrator coefficients). An actor

@@ -4,6 +4,7 @@
 
 #include <superdex/actors/mesh.h>
 #include <superdex/assembly/hessian_assembler.h>
+#include <superdex/core/so3.h>
 #include <superdex/core/validate.h>
 
 namespace superdex {
@@ -197,6 +198,16 @@ int DeformableActor::CountInvertedTetrahedra() const {
 
 void DeformableActor::AppendDofBlockSizes(DynamicArray<int>& sizes) const {
   sizes.insert(sizes.end(), reference_.size(), 3);
+}
+
+void DeformableActor::WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const {
+  // node velocity t + ω × p (world), expressed in the actor frame of u
+  Real33 const toActor = transformRotation_.toRotationMatrix().transpose();
+  for (int i = 0; i < GetNumNodes(); ++i) {
+    auto block = modes.middleRows(dofOffset_ + 3 * i, 3);
+    block.leftCols<3>() = toActor;
+    block.rightCols<3>() = -toActor * Hat(GetNodePosition(i));
+  }
 }
 
 void DeformableActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {

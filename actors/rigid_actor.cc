@@ -64,6 +64,16 @@ real RigidActor::GetKineticEnergy() const {
 
 void RigidActor::AppendDofBlockSizes(DynamicArray<int>& sizes) const { sizes.push_back(kNumDofs); }
 
+void RigidActor::WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const {
+  // translation DoFs move with v = t + ω × x; the rotation DoFs are world-frame
+  // increments, so they take ω itself
+  auto block = modes.middleRows(dofOffset_, kNumDofs);
+  block.setZero();
+  block.topLeftCorner<3, 3>().setIdentity();
+  block.topRightCorner<3, 3>() = -Hat(GetPosition());
+  block.bottomRightCorner<3, 3>().setIdentity();
+}
+
 void RigidActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
   DynamicArray<int> dofs(kNumDofs);
   for (int i = 0; i < kNumDofs; ++i) dofs[i] = dofOffset_ + i;

@@ -71,6 +71,8 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
   matrix.rowIndex.reserve(matrix.colStart.back());
   for (auto const& rows : columns) matrix.rowIndex.insert(matrix.rowIndex.end(), rows.begin(), rows.end());
   matrix.values.assign(matrix.rowIndex.size(), 0);
+  matrix.blockSizes.reserve(blockOrder.size());
+  for (int block : blockOrder) matrix.blockSizes.push_back(blockSizes[block]);
   matrix.patternVersion = NextPatternVersion();
 
   // slot table: local upper triangle (a <= b, row-major) → value index

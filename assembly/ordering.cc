@@ -11,6 +11,7 @@ std::string_view ToString(OrderingMethod method) {
   switch (method) {
     case OrderingMethod::Metis: return "METIS";
     case OrderingMethod::Natural: return "natural";
+    case OrderingMethod::SolverDefault: return "solver default";
   }
   return "Unknown";
 }
@@ -53,7 +54,7 @@ bool OrderBlocks(BlockGraph const& graph, OrderingMethod method, DynamicArray<in
   std::iota(blockOrder.begin(), blockOrder.end(), 0);
   // METIS needs a graph with at least one edge to dissect; tiny or edgeless
   // graphs keep the natural order (nothing to gain)
-  if (method == OrderingMethod::Natural || numBlocks < 3 || graph.adjacency.empty()) return true;
+  if (method != OrderingMethod::Metis || numBlocks < 3 || graph.adjacency.empty()) return true;
 
   DynamicArray<idx_t> xadj(graph.adjacencyStart.begin(), graph.adjacencyStart.end());
   DynamicArray<idx_t> adjncy(graph.adjacency.begin(), graph.adjacency.end());

@@ -14,6 +14,11 @@ namespace superdex {
 enum class OrderingMethod {
   Metis,    ///< METIS_NodeND nested dissection on the block graph (default)
   Natural,  ///< DoFs in actor-creation order (for comparisons)
+  /// The assembler keeps the natural order and the linear solver orders:
+  /// CHOLMOD its own choice (AMD, then METIS if AMD's fill is poor); PCG and
+  /// dense keep the natural order. For comparing against the cached METIS
+  /// ordering.
+  SolverDefault,
 };
 
 std::string_view ToString(OrderingMethod method);

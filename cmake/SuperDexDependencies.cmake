@@ -14,3 +14,11 @@ find_library(METIS_LIBRARY metis REQUIRED)
 add_library(SuperDex::metis INTERFACE IMPORTED)
 target_include_directories(SuperDex::metis SYSTEM INTERFACE ${METIS_INCLUDE_DIR})
 target_link_libraries(SuperDex::metis INTERFACE ${METIS_LIBRARY})
+
+# PETSc (Debian's petsc-dev, with OpenMPI): pkg-config gives PETSc's own
+# include and library; MPI's headers come from FindMPI.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(PETSC REQUIRED IMPORTED_TARGET PETSc)
+find_package(MPI REQUIRED COMPONENTS C)
+add_library(SuperDex::petsc INTERFACE IMPORTED)
+target_link_libraries(SuperDex::petsc INTERFACE PkgConfig::PETSC MPI::MPI_C)

@@ -8,6 +8,8 @@
 #include <superdex/core/config.h>
 #include <superdex/linsolve/cholmod_solver.h>
 #include <superdex/linsolve/dense_solver.h>
+#include <superdex/linsolve/petsc_pcg_solver.h>
+#include <superdex/linsolve/petsc_runtime.h>
 
 namespace superdex {
 
@@ -99,6 +101,8 @@ std::string_view ToString(LinearSolverType type) {
       return "Auto";
     case LinearSolverType::Cholmod:
       return "Cholmod";
+    case LinearSolverType::PetscPcg:
+      return "PetscPcg";
     case LinearSolverType::Dense:
       return "Dense";
   }
@@ -239,6 +243,9 @@ DynamicArray<LinearSolverType> AvailableLinearSolvers() {
 #if SUPERDEX_HAS_CHOLMOD
   types.push_back(LinearSolverType::Cholmod);
 #endif
+#if SUPERDEX_HAS_PETSC
+  types.push_back(LinearSolverType::PetscPcg);
+#endif
   types.push_back(LinearSolverType::Dense);
   return types;
 }
@@ -253,7 +260,8 @@ LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size) {
 #endif
 }
 
-std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, Error& error) {
+std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, PcgParams const& pcg,
+                                                 Error& error) {
   switch (type) {
     case LinearSolverType::Auto:
       error.Set(ErrorCode::InvalidArgument,
@@ -266,6 +274,16 @@ std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, Error& e
 #else
       error.Set(ErrorCode::NotSupported,
                 "CreateLinearSolver: type Cholmod is not compiled into this build of SuperDex");
+      return nullptr;
+#endif
+    case LinearSolverType::PetscPcg:
+#if SUPERDEX_HAS_PETSC
+      if (!ValidatePcgParams(pcg, error)) return nullptr;
+      if (!internal::EnsurePetscInitialized(error)) return nullptr;
+      return std::make_unique<internal::PetscPcgSolver>(pcg);
+#else
+      error.Set(ErrorCode::NotSupported,
+                "CreateLinearSolver: type PetscPcg is not compiled into this build of SuperDex");
       return nullptr;
 #endif
     case LinearSolverType::Dense:

@@ -25,12 +25,67 @@
 namespace superdex {
 
 enum class LinearSolverType {
-  Auto,     ///< dense up to DenseSolverMaxSize unknowns, CHOLMOD above
-  Cholmod,  ///< SuiteSparse CHOLMOD supernodal Cholesky
-  Dense,    ///< dense Cholesky (Eigen), for tiny systems
+  Auto,      ///< dense up to DenseSolverMaxSize unknowns, CHOLMOD above
+  Cholmod,   ///< SuiteSparse CHOLMOD supernodal Cholesky
+  PetscPcg,  ///< PETSc preconditioned conjugate gradients (KSPCG), see PcgParams
+  Dense,     ///< dense Cholesky (Eigen), for tiny systems
 };
 
 std::string_view ToString(LinearSolverType type);
+
+/// Preconditioners of the PETSc PCG backend (docs/linear_solvers.md compares them).
+enum class PcgPreconditioner {
+  None,              ///< plain CG (PCNONE)
+  Jacobi,            ///< diagonal scaling (PCJACOBI)
+  PointBlockJacobi,  ///< inverse of each DoF block's diagonal block: 3×3 per node,
+                     ///< 6×6 per rigid body (PCVPBJACOBI on the ordered blocks)
+  BlockJacobi,       ///< PCBJACOBI, `blockJacobiBlocks` contiguous blocks of the
+                     ///< METIS-ordered matrix, each with ICC(0)
+  Icc,               ///< incomplete Cholesky ICC(`iccLevels`) of the whole matrix (PCICC)
+  Gamg,              ///< PETSc's smoothed-aggregation AMG (PCGAMG) with the rigid-body
+                     ///< near-null space (3 translations, 3 rotations) of the scene's DoFs
+  BoomerAmg,         ///< hypre BoomerAMG (PCHYPRE), if the installed PETSc has hypre
+};
+
+std::string_view ToString(PcgPreconditioner preconditioner);
+
+/// Settings of the PETSc PCG backend. CG stops when ‖r‖₂ <= max(rtol ‖b‖₂, atol)
+/// (PETSc's default test with a zero initial guess) or after maxIterations
+/// iterations, which is reported as not converged.
+struct PcgParams {
+  PcgPreconditioner preconditioner = PcgPreconditioner::Gamg;
+  real relativeTolerance = 1e-8;   ///< rtol, in (0, 1)
+  real absoluteTolerance = 1e-50;  ///< atol, >= 0
+  int maxIterations = 10000;       ///< > 0
+  /// Inexact Newton: the stage solver sets each iteration's rtol by the
+  /// Eisenstat–Walker rule (choice 2: η = 0.9 (‖∇E‖/‖∇E_prev‖)², safeguarded,
+  /// within [relativeTolerance, adaptiveMaxTolerance]) and re-solves at
+  /// relativeTolerance before it accepts convergence.
+  bool adaptiveTolerance = false;
+  real adaptiveMaxTolerance = 0.5;  ///< in [relativeTolerance, 1)
+  /// The preconditioner is rebuilt at every `preconditionerLag`-th Factorize
+  /// and reused (with the new matrix values in CG) in between; 1 = always
+  /// rebuilt. >= 1.
+  int preconditionerLag = 1;
+  /// Gamg: keep the prolongators of the first set-up and recompute only the
+  /// Galerkin coarse operators at later set-ups (PCGAMGSetReuseInterpolation).
+  bool reuseAmgInterpolation = false;
+  int blockJacobiBlocks = 8;  ///< BlockJacobi: number of blocks, >= 1
+  int iccLevels = 0;          ///< Icc and BlockJacobi: fill levels of ICC, >= 0
+  /// Extra PETSc options for power users, e.g. "-ksp_norm_type unpreconditioned
+  /// -pc_gamg_threshold 0.02". Applied after the settings above (so they win);
+  /// each option is scoped to this solver. An option PETSc does not use is an
+  /// error.
+  std::string options;
+};
+
+/// Checks every field of `params`; returns false and names the field and
+/// value in `error` (kInvalidArgument) when one is out of range, and
+/// kNotSupported when the preconditioner is not in this build.
+bool ValidatePcgParams(PcgParams const& params, Error& error);
+
+/// The preconditioners compiled into this build (BoomerAmg only with hypre).
+DynamicArray<PcgPreconditioner> AvailablePcgPreconditioners();
 
 /// Largest system size for which kAuto picks the dense backend. Taken from the
 /// measurement in docs/linear_solvers.md (perf/dense_vs_sparse): on rigid-body
@@ -90,6 +145,21 @@ class LinearSolver {
   std::uint64_t GetAnalyzedPatternVersion() const { return analyzedVersion_; }
 
   virtual LinearSolverType GetType() const = 0;
+  /// True for iterative backends, which accept SetRelativeTolerance.
+  virtual bool IsIterative() const { return false; }
+  /// Iterative backends: the relative tolerance of the next Solve calls (the
+  /// inexact-Newton forcing term). Direct backends ignore it (they solve to
+  /// round-off).
+  virtual void SetRelativeTolerance(real /*relativeTolerance*/) {}
+  /// True when the backend uses a near-null space (AMG); then the caller
+  /// passes it with SetNearNullSpace after each Analyze and before Factorize.
+  virtual bool WantsNearNullSpace() const { return false; }
+  /// The near-null-space vectors as columns of a size × k matrix in the
+  /// analyzed (ordered) DoF order. Copied; only used when WantsNearNullSpace.
+  virtual void SetNearNullSpace(MatrixX const& /*modes*/) {}
+  /// How many times the backend created its external objects (PETSc Mat and
+  /// KSP) since construction: once per Analyze for PETSc, 0 for the others.
+  virtual std::int64_t GetNumObjectBuilds() const { return 0; }
   /// What really ran, as the backend reports it ("CHOLMOD supernodal", ...).
   virtual std::string GetDescription() const = 0;
   /// Nonzeros of the Cholesky factor L (after Analyze), or -1 if unknown.
@@ -116,9 +186,15 @@ DynamicArray<LinearSolverType> AvailableLinearSolvers();
 /// The backend kAuto resolves to for a system of `size` unknowns.
 LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size);
 
-/// A new solver of a concrete type (not kAuto). Returns nullptr and sets
-/// `error` (kInvalidArgument for kAuto or a value outside the enum,
-/// kNotSupported when the type is not compiled in).
-std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, Error& error);
+/// A new solver of a concrete type (not kAuto); `pcg` configures the PETSc
+/// backend (and is ignored by the others). Returns nullptr and sets `error`
+/// (kInvalidArgument for kAuto, a value outside the enum or invalid `pcg`,
+/// kNotSupported when the type is not compiled in, kBackendError when PETSc
+/// cannot be initialized).
+std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, PcgParams const& pcg,
+                                                 Error& error);
+inline std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, Error& error) {
+  return CreateLinearSolver(type, PcgParams{}, error);
+}
 
 }  // namespace superdex

@@ -19,6 +19,10 @@ struct SparseSymmetricMatrix {
   DynamicArray<int> colStart;  ///< size + 1 entries
   DynamicArray<int> rowIndex;  ///< NumNonzeros() entries
   DynamicArray<real> values;   ///< NumNonzeros() entries
+  /// Sizes of the DoF blocks in matrix order (a node's 3 DoFs, a rigid
+  /// body's 6), contiguous and adding to `size`; part of the pattern. Empty
+  /// means unknown (treated as blocks of 1).
+  DynamicArray<int> blockSizes;
   std::uint64_t patternVersion = 0;
 
   std::int64_t NumNonzeros() const { return colStart.empty() ? 0 : colStart.back(); }

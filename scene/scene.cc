@@ -37,7 +37,13 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
     return nullptr;
   }
   std::unique_ptr<Scene> scene(new Scene(params));
-  if (!scene->solver_->SetLinearSolver(params.linearSolver, error)) return nullptr;
+  if (!scene->solver_->SetLinearSolver(params.linearSolver, params.pcg, error)) {
+    // name the field as the caller wrote it
+    std::string message = error.GetMessage();
+    if (message.rfind("PcgParams.", 0) == 0) message = "SceneParams.pcg." + message.substr(10);
+    error.Set(error.GetCode(), message);
+    return nullptr;
+  }
   return scene;
 }
 
@@ -356,9 +362,10 @@ bool Scene::DestroyConstraint(Constraint* constraint, Error& error) {
 
 // ---- stepping ----
 
-bool Scene::SetLinearSolver(LinearSolverType type, Error& error) {
-  if (!solver_->SetLinearSolver(type, error)) return false;
+bool Scene::SetLinearSolver(LinearSolverType type, PcgParams const& pcg, Error& error) {
+  if (!solver_->SetLinearSolver(type, pcg, error)) return false;
   params_.linearSolver = type;
+  params_.pcg = pcg;
   return true;
 }
 
@@ -369,6 +376,7 @@ bool Scene::Step(real dt, Error& error) {
   // reset the per-step figures
   stats_.newtonIterations = 0;
   stats_.linearIterations = 0;
+  stats_.linearSolves = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;
 

@@ -94,9 +94,14 @@ class Scene {
   // ---- stepping ----
   /// Advances by dt (finite, > 0). Transactional: on failure nothing changes.
   bool Step(real dt, Error& error);
-  /// Switches the linear solver; the new backend analyzes the cached pattern
-  /// at the next step.
-  bool SetLinearSolver(LinearSolverType type, Error& error);
+  /// Switches the linear solver between steps; the new backend analyzes the
+  /// cached pattern at the next step. `pcg` configures PetscPcg (validated
+  /// even when another type is chosen). On failure nothing changes.
+  bool SetLinearSolver(LinearSolverType type, PcgParams const& pcg, Error& error);
+  /// Keeps the current PcgParams.
+  bool SetLinearSolver(LinearSolverType type, Error& error) {
+    return SetLinearSolver(type, params_.pcg, error);
+  }
 
   real GetTime() const { return time_; }
   SceneParams const& GetParams() const { return params_; }

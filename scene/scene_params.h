@@ -26,6 +26,7 @@ struct SceneParams {
   IntegratorType integrator = IntegratorType::BackwardEuler;
   NewtonParams newton;
   LinearSolverType linearSolver = LinearSolverType::Auto;
+  PcgParams pcg;  ///< used when linearSolver is PetscPcg
   OrderingMethod ordering = OrderingMethod::Metis;
 };
 
@@ -34,10 +35,15 @@ struct SceneStats {
   std::int64_t steps = 0;             ///< successful steps
   std::int64_t patternBuilds = 0;     ///< Hessian pattern + ordering + slot tables built
   std::int64_t symbolicAnalyses = 0;  ///< linear-solver symbolic analyses
+  /// External solver objects created (PETSc Mat + KSP: once per pattern the
+  /// PCG backend analyzes); 0 for CHOLMOD and dense.
+  std::int64_t linearSolverObjectBuilds = 0;
 
   // last step
   int newtonIterations = 0;
   int linearIterations = 0;        ///< iterative solvers; 0 for direct ones
+  int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
+                                   ///< inexact-Newton re-solves)
   real gradientNorm = 0;           ///< ‖∇E‖∞ at the last Newton iteration
   int numDofs = 0;
   std::int64_t hessianNonzeros = 0;  ///< stored (upper triangle) entries
@@ -47,7 +53,7 @@ struct SceneStats {
   // time of each phase of the last step [s]
   double analysisSeconds = 0;        ///< pattern build + symbolic analysis
   double assemblySeconds = 0;
-  double factorizationSeconds = 0;
+  double factorizationSeconds = 0;  ///< numeric factorization, or PCG's value update + PC set-up
   double solveSeconds = 0;
   double lineSearchSeconds = 0;
   double stepSeconds = 0;

@@ -5,6 +5,7 @@
 
 #include <superdex/actors/actor.h>
 #include <superdex/core/validate.h>
+#include <superdex/linsolve/cholmod_solver.h>
 
 namespace superdex::internal {
 
@@ -40,6 +41,7 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
     maxDofs = std::max(maxDofs, constraint->GetNumDofs());
   }
   if (!assembler_.Analyze(numDofs, blockSizes, contributorDofs, ordering, error)) return false;
+  ordering_ = ordering;
   firstContributor_ = std::move(firstContributor);
   constraintWorkspace_.Reserve(maxDimension, maxDofs);
   gradient_.setZero(numDofs);
@@ -52,7 +54,8 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   return true;
 }
 
-bool StageSolver::SetLinearSolver(LinearSolverType type, Error& error) {
+bool StageSolver::SetLinearSolver(LinearSolverType type, PcgParams const& pcg, Error& error) {
+  if (!ValidatePcgParams(pcg, error)) return false;
   if (type != LinearSolverType::Auto) {
     auto available = AvailableLinearSolvers();
     if (std::find(available.begin(), available.end(), type) == available.end()) {
@@ -62,19 +65,38 @@ bool StageSolver::SetLinearSolver(LinearSolverType type, Error& error) {
     }
   }
   requestedSolver_ = type;
+  pcg_ = pcg;
+  // a PCG backend with other settings is rebuilt (lazily, at the next solve)
+  if (solver_ && solver_->GetType() == LinearSolverType::PetscPcg) solver_.reset();
   return true;
 }
 
-bool StageSolver::EnsureSolverReady(SceneStats& stats, Error& error) {
+bool StageSolver::EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneStats& stats,
+                                    Error& error) {
   SparseSymmetricMatrix const& matrix = assembler_.GetMatrix();
   LinearSolverType const type = ResolveLinearSolverType(requestedSolver_, matrix.size);
   if (!solver_ || solver_->GetType() != type) {
-    solver_ = CreateLinearSolver(type, error);
+    if (type == LinearSolverType::Cholmod && ordering_ == OrderingMethod::SolverDefault)
+      solver_ = std::make_unique<CholmodSolver>(CholmodOrdering::CholmodDefault);
+    else
+      solver_ = CreateLinearSolver(type, pcg_, error);
     if (!solver_) return false;
   }
   if (!solver_->IsAnalyzed() || solver_->GetAnalyzedPatternVersion() != matrix.patternVersion) {
     auto const start = Clock::now();
+    std::int64_t const builds = solver_->GetNumObjectBuilds();
     LinearSolveResult result = solver_->Analyze(matrix);
+    stats.linearSolverObjectBuilds += solver_->GetNumObjectBuilds() - builds;
+    if (result.Ok() && solver_->WantsNearNullSpace()) {
+      // rigid-body modes at the current configuration, in the solver's order
+      nearNullSpace_.setZero(matrix.size, 6);
+      MatrixX natural = MatrixX::Zero(matrix.size, 6);
+      for (Actor* actor : actors) actor->WriteRigidBodyModes(natural);
+      for (int k = 0; k < 6; ++k)
+        assembler_.PermuteToOrdered(Span<real const>(natural.col(k).data(), matrix.size),
+                                    Span<real>(nearNullSpace_.col(k).data(), matrix.size));
+      solver_->SetNearNullSpace(nearNullSpace_);
+    }
     stats.analysisSeconds += SecondsSince(start);
     if (!result.Ok()) {
       error.Set(ErrorCode::LinearSolverFailed, solver_->GetDescription() +
@@ -87,6 +109,39 @@ bool StageSolver::EnsureSolverReady(SceneStats& stats, Error& error) {
   stats.factorNonzeros = solver_->GetFactorNonzeros();
   stats.factorFlops = solver_->GetFactorFlops();
   return true;
+}
+
+LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats) {
+  auto const start = Clock::now();
+  Span<real const> const gradient(gradient_.data(), gradient_.size());
+  assembler_.PermuteToOrdered(gradient, Span<real>(orderedRhs_.data(), orderedRhs_.size()));
+  orderedRhs_ = -orderedRhs_;
+  LinearSolveResult result =
+      solver_->Solve(Span<real const>(orderedRhs_.data(), orderedRhs_.size()),
+                     Span<real>(orderedSolution_.data(), orderedSolution_.size()));
+  assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), orderedSolution_.size()),
+                              Span<real>(delta_.data(), delta_.size()));
+  stats.solveSeconds += SecondsSince(start);
+  stats.linearIterations += result.iterations;
+  ++stats.linearSolves;
+  return result;
+}
+
+real StageSolver::ForcingTerm(int iteration, real gradientNorm) {
+  // Eisenstat & Walker (1996), choice 2 with γ = 0.9, α = 2: η = γ (‖g‖/‖g₋₁‖)²,
+  // safeguarded by γ η₋₁² when that exceeds 0.1; the first iteration of a
+  // stage starts at the loosest tolerance
+  real eta = pcg_.adaptiveMaxTolerance;
+  if (iteration > 1 && previousGradientNorm_ > 0) {
+    real const ratio = gradientNorm / previousGradientNorm_;
+    eta = 0.9 * ratio * ratio;
+    real const safeguard = 0.9 * previousForcingTerm_ * previousForcingTerm_;
+    if (safeguard > 0.1) eta = std::max(eta, safeguard);
+  }
+  eta = std::clamp(eta, pcg_.relativeTolerance, pcg_.adaptiveMaxTolerance);
+  previousGradientNorm_ = gradientNorm;
+  previousForcingTerm_ = eta;
+  return eta;
 }
 
 real StageSolver::TotalEnergy(DynamicArray<Actor*> const& actors,
@@ -102,7 +157,8 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
                         DynamicArray<Constraint*> const& constraints, Real3 const& gravity,
                         NewtonParams const& newton, SceneStats& stats, Error& error) {
   real const h = stage.duration;
-  if (!EnsureSolverReady(stats, error)) return false;
+  if (!EnsureSolverReady(actors, stats, error)) return false;
+  bool const inexact = solver_->IsIterative() && pcg_.adaptiveTolerance;
 
   for (Actor* actor : actors) actor->BeginStage(stage, gravity);
   for (Constraint* constraint : constraints) constraint->BeginStage(constraintWorkspace_);
@@ -136,21 +192,17 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       return false;
     }
 
-    // solve H δ = −∇E in the fill-reducing order
+    // solve H δ = −∇E in the fill-reducing order (iterative solvers: to the
+    // inexact-Newton forcing term when adaptive)
     start = Clock::now();
     LinearSolveResult result = solver_->Factorize(assembler_.GetMatrix());
     stats.factorizationSeconds += SecondsSince(start);
-    if (result.Ok()) {
-      start = Clock::now();
-      assembler_.PermuteToOrdered(gradient, Span<real>(orderedRhs_.data(), orderedRhs_.size()));
-      orderedRhs_ = -orderedRhs_;
-      result = solver_->Solve(Span<real const>(orderedRhs_.data(), orderedRhs_.size()),
-                              Span<real>(orderedSolution_.data(), orderedSolution_.size()));
-      assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), orderedSolution_.size()),
-                                  Span<real>(delta_.data(), delta_.size()));
-      stats.solveSeconds += SecondsSince(start);
-      stats.linearIterations += result.iterations;
+    real forcingTerm = pcg_.relativeTolerance;
+    if (inexact) {
+      forcingTerm = ForcingTerm(iteration, gradient_.norm());
+      solver_->SetRelativeTolerance(forcingTerm);
     }
+    if (result.Ok()) result = SolveNewtonSystem(stats);
     if (fault_.failLinearSolveAtIteration == iteration && result.Ok()) {
       result.status = LinearSolveStatus::BackendError;
       result.reason = "failure injected by a test";
@@ -165,8 +217,21 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       return false;
     }
 
-    // velocity-scaled step norm
-    real const stepNorm = delta_.lpNorm<Eigen::Infinity>() / h;
+    // velocity-scaled step norm; an inexact step that looks converged is
+    // recomputed at the full tolerance before it may end Newton
+    real stepNorm = delta_.lpNorm<Eigen::Infinity>() / h;
+    if (inexact && stepNorm <= newton.velocityTolerance && forcingTerm > pcg_.relativeTolerance) {
+      solver_->SetRelativeTolerance(pcg_.relativeTolerance);
+      result = SolveNewtonSystem(stats);
+      if (!result.Ok()) {
+        error.Set(ErrorCode::LinearSolverFailed, Where(stageIndex, iteration) + ": linear solver " +
+                                                      solver_->GetDescription() + " failed (" +
+                                                      std::string(ToString(result.status)) +
+                                                      "): " + result.reason);
+        return false;
+      }
+      stepNorm = delta_.lpNorm<Eigen::Infinity>() / h;
+    }
     if (!std::isfinite(stepNorm)) {
       error.Set(ErrorCode::NonFiniteState, Where(stageIndex, iteration) + ": the Newton step is not finite");
       return false;

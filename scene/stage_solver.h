@@ -35,9 +35,10 @@ class StageSolver {
   bool Analyze(DynamicArray<Actor*> const& actors, DynamicArray<Constraint*> const& constraints,
                OrderingMethod ordering, SceneStats& stats, Error& error);
 
-  /// Chooses the backend (kAuto resolves by size); the new backend analyzes
-  /// the cached pattern lazily at the next solve.
-  bool SetLinearSolver(LinearSolverType type, Error& error);
+  /// Chooses the backend (kAuto resolves by size) and the PCG settings
+  /// (validated); the new backend analyzes the cached pattern lazily at the
+  /// next solve. Returns false (nothing changed) on invalid input.
+  bool SetLinearSolver(LinearSolverType type, PcgParams const& pcg, Error& error);
 
   /// Runs Newton on one stage. On failure `error` names the stage, the
   /// Newton iteration and the cause; actors are left at some iterate (the
@@ -53,10 +54,21 @@ class StageSolver {
  private:
   real TotalEnergy(DynamicArray<Actor*> const& actors, DynamicArray<Constraint*> const& constraints,
                    real h);
-  bool EnsureSolverReady(SceneStats& stats, Error& error);
+  bool EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneStats& stats, Error& error);
+  /// H δ = −∇E with the current factorization/set-up: permutes the gradient,
+  /// solves, permutes δ back; adds the solve time and iterations to `stats`.
+  LinearSolveResult SolveNewtonSystem(SceneStats& stats);
+  /// The inexact-Newton forcing term for this iteration (Eisenstat–Walker
+  /// choice 2, safeguarded), from the gradient norms of this and the last
+  /// iteration; `iteration` is 1-based.
+  real ForcingTerm(int iteration, real gradientNorm);
 
   HessianAssembler assembler_;
   LinearSolverType requestedSolver_ = LinearSolverType::Auto;
+  PcgParams pcg_;
+  OrderingMethod ordering_ = OrderingMethod::Metis;
+  real previousGradientNorm_ = 0, previousForcingTerm_ = 0;
+  MatrixX nearNullSpace_;  ///< rigid-body modes (AMG), rebuilt with the pattern
   std::unique_ptr<LinearSolver> solver_;
   ConstraintWorkspace constraintWorkspace_;
   DynamicArray<int> firstContributor_;  ///< per actor, then per constraint

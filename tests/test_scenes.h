@@ -3,6 +3,8 @@
 
 #include "test_support.h"
 
+#include <functional>
+
 namespace superdex::test {
 
 /// A chain of `numBodies` rods (0.1 m long boxes, 1 kg) along +x, joined end
@@ -59,6 +61,43 @@ inline void Anchor(Scene& scene, RigidActor& body, real stiffness = 1e9) {
   rotation.rotation = body.GetRotation();
   rotation.stiffness = stiffness;
   REQUIRE(scene.CreateRigidPivotRotationConstraint(rotation, error));
+}
+
+/// A tetrahedral box (MakeTetBox) of `cells` as a deformable actor with the
+/// material of `p`.
+inline DeformableActor* MakeBox(Scene& scene, Real3 const& origin, Real3 const& size, std::array<int, 3> cells,
+                         DeformableActorParams p) {
+  TetMesh mesh;
+  Error error;
+  REQUIRE(MakeTetBox(origin, size, cells, mesh, error));
+  p.nodes = mesh.nodes;
+  p.tetrahedra = mesh.tetrahedra;
+  DeformableActor* actor = scene.CreateDeformableActor(p, error);
+  INFO(error.ToString());
+  REQUIRE(actor);
+  return actor;
+}
+
+// pins every node with `select(X)` true to its current position; returns the pins
+inline DynamicArray<Constraint*> PinNodes(Scene& scene, DeformableActor& actor, real stiffness,
+                                   std::function<bool(Real3 const&)> const& select,
+                                   std::function<Real3(Real3 const&)> const& target = {}) {
+  DynamicArray<Constraint*> pins;
+  Error error;
+  for (int i = 0; i < actor.GetNumNodes(); ++i) {
+    Real3 const x = actor.GetNodeReferencePosition(i);
+    if (!select(x)) continue;
+    DeformableNodePositionConstraintParams p;
+    p.actor = actor.GetHandle();
+    p.nodeIndex = i;
+    p.position = target ? target(x) : actor.GetNodePosition(i);
+    p.stiffness = stiffness;
+    Constraint* c = scene.CreateDeformableNodePositionConstraint(p, error);
+    REQUIRE(c);
+    REQUIRE(c->RegisterQuery(QueryType::ConstraintForce, error));
+    pins.push_back(c);
+  }
+  return pins;
 }
 
 }  // namespace superdex::test

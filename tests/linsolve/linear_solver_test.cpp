@@ -27,13 +27,49 @@ using test::WithDiagonal;
 
 constexpr real kResidualTol = 1e-10;
 
-std::unique_ptr<LinearSolver> MakeSolver(LinearSolverType type) {
+/// A backend to test: a direct type, or PETSc PCG with one preconditioner at
+/// rtol 1e-12 (so that its answers meet kResidualTol too).
+struct Backend {
+  LinearSolverType type = LinearSolverType::Dense;
+  PcgParams pcg;
+
+  bool IsIterative() const { return type == LinearSolverType::PetscPcg; }
+  std::string Name() const {
+    std::string name(ToString(type));
+    if (IsIterative()) name += " + " + std::string(ToString(pcg.preconditioner));
+    return name;
+  }
+};
+
+DynamicArray<Backend> DirectBackends() {
+  DynamicArray<Backend> backends;
+  for (LinearSolverType type : AvailableLinearSolvers())
+    if (type != LinearSolverType::PetscPcg) backends.push_back({type, {}});
+  return backends;
+}
+
+DynamicArray<Backend> AllBackends() {
+  DynamicArray<Backend> backends = DirectBackends();
+  DynamicArray<LinearSolverType> const types = AvailableLinearSolvers();
+  if (std::find(types.begin(), types.end(), LinearSolverType::PetscPcg) == types.end())
+    return backends;
+  for (PcgPreconditioner preconditioner : AvailablePcgPreconditioners()) {
+    Backend backend{LinearSolverType::PetscPcg, {}};
+    backend.pcg.preconditioner = preconditioner;
+    backend.pcg.relativeTolerance = 1e-12;
+    backends.push_back(backend);
+  }
+  return backends;
+}
+
+std::unique_ptr<LinearSolver> MakeSolver(Backend const& backend) {
   Error error;
-  std::unique_ptr<LinearSolver> solver = CreateLinearSolver(type, error);
+  std::unique_ptr<LinearSolver> solver = CreateLinearSolver(backend.type, backend.pcg, error);
   INFO(error.ToString());
   REQUIRE(solver != nullptr);
   REQUIRE(!error);
-  REQUIRE(solver->GetType() == type);
+  REQUIRE(solver->GetType() == backend.type);
+  REQUIRE(solver->IsIterative() == backend.IsIterative());
   return solver;
 }
 
@@ -57,10 +93,10 @@ SparseSymmetricMatrix RigidChain(int numBodies, unsigned seed) {
 
 // Analyze, Factorize and Solve `a` with a fresh solver of `type`; the answer
 // must have a relative residual <= kResidualTol.
-void CheckSolves(LinearSolverType type, SparseSymmetricMatrix const& a) {
+void CheckSolves(Backend const& backend, SparseSymmetricMatrix const& a) {
   REQUIRE(a.size > 0);
   REQUIRE(a.NumNonzeros() >= a.size);
-  std::unique_ptr<LinearSolver> solver = MakeSolver(type);
+  std::unique_ptr<LinearSolver> solver = MakeSolver(backend);
 
   LinearSolveResult result = solver->Analyze(a);
   INFO(result.reason);
@@ -76,6 +112,10 @@ void CheckSolves(LinearSolverType type, SparseSymmetricMatrix const& a) {
   INFO(result.reason);
   REQUIRE(result.Ok());
   REQUIRE(result.failingColumn == -1);
+  if (backend.IsIterative()) {
+    REQUIRE(result.iterations >= 1);
+    REQUIRE(result.relativeResidual <= backend.pcg.relativeTolerance);
+  }
 
   REQUIRE(b.norm() > 0);
   REQUIRE(x.allFinite());
@@ -84,13 +124,17 @@ void CheckSolves(LinearSolverType type, SparseSymmetricMatrix const& a) {
   CAPTURE(solver->GetDescription(), a.size, residual);
   REQUIRE(residual <= kResidualTol);
   REQUIRE(!solver->GetDescription().empty());
-  REQUIRE(solver->GetFactorNonzeros() >= a.size);
-  REQUIRE(solver->GetFactorFlops() > 0);
+  if (backend.IsIterative()) {
+    REQUIRE(solver->GetNumObjectBuilds() == 1);
+  } else {
+    REQUIRE(solver->GetFactorNonzeros() >= a.size);
+    REQUIRE(solver->GetFactorFlops() > 0);
+  }
 }
 
 TEST_CASE("every backend solves the same SPD systems", "[linsolve][conformance]") {
-  LinearSolverType const type = GENERATE(from_range(AvailableLinearSolvers()));
-  CAPTURE(ToString(type));
+  Backend const type = GENERATE(from_range(AllBackends()));
+  CAPTURE(type.Name());
 
   SECTION("2-D Laplacian 12 x 9 + 0.01 I") {
     CheckSolves(type, Laplacian2d(12, 9, 0.01));
@@ -115,9 +159,9 @@ TEST_CASE("every backend solves the same SPD systems", "[linsolve][conformance]"
 }
 
 TEST_CASE("one analysis serves many factorizations", "[linsolve][reuse]") {
-  LinearSolverType const type = GENERATE(from_range(AvailableLinearSolvers()));
-  CAPTURE(ToString(type));
-  std::unique_ptr<LinearSolver> solver = MakeSolver(type);
+  Backend const backend = GENERATE(from_range(AllBackends()));
+  CAPTURE(backend.Name());
+  std::unique_ptr<LinearSolver> solver = MakeSolver(backend);
 
   SparseSymmetricMatrix const base = RandomBlockSpd(20, 6, 0.2, 11);
   SparseSymmetricMatrix a = base;
@@ -159,9 +203,9 @@ TEST_CASE("one analysis serves many factorizations", "[linsolve][reuse]") {
 }
 
 TEST_CASE("calls out of order are refused with kInvalidState", "[linsolve][state]") {
-  LinearSolverType const type = GENERATE(from_range(AvailableLinearSolvers()));
-  CAPTURE(ToString(type));
-  std::unique_ptr<LinearSolver> solver = MakeSolver(type);
+  Backend const backend = GENERATE(from_range(AllBackends()));
+  CAPTURE(backend.Name());
+  std::unique_ptr<LinearSolver> solver = MakeSolver(backend);
 
   SparseSymmetricMatrix a = Laplacian2d(5, 4, 0.1);
   a.patternVersion = 7;
@@ -216,16 +260,24 @@ TEST_CASE("calls out of order are refused with kInvalidState", "[linsolve][state
   SECTION("Solve after a failed Factorize") {
     REQUIRE(solver->Analyze(a).Ok());
     REQUIRE(solver->Factorize(a).Ok());
-    LinearSolveResult const failed = solver->Factorize(WithDiagonal(a, 3, -1));
-    REQUIRE(failed.status == LinearSolveStatus::NotPositiveDefinite);
+    // a non-finite value fails every backend's Factorize
+    LinearSolveResult const failed =
+        solver->Factorize(WithDiagonal(a, 3, std::numeric_limits<real>::infinity()));
+    REQUIRE(failed.status == LinearSolveStatus::InvalidInput);
     requireInvalidState(solver->Solve(View(b), View(x)));
+    if (!backend.IsIterative()) {
+      REQUIRE(solver->Factorize(a).Ok());
+      REQUIRE(solver->Factorize(WithDiagonal(a, 3, -1)).status ==
+              LinearSolveStatus::NotPositiveDefinite);
+      requireInvalidState(solver->Solve(View(b), View(x)));
+    }
   }
 }
 
 TEST_CASE("bad input is refused with kInvalidInput", "[linsolve][input]") {
-  LinearSolverType const type = GENERATE(from_range(AvailableLinearSolvers()));
-  CAPTURE(ToString(type));
-  std::unique_ptr<LinearSolver> solver = MakeSolver(type);
+  Backend const backend = GENERATE(from_range(AllBackends()));
+  CAPTURE(backend.Name());
+  std::unique_ptr<LinearSolver> solver = MakeSolver(backend);
 
   SparseSymmetricMatrix const a = Laplacian2d(4, 4, 0.1);
   auto const requireInvalidInput = [](LinearSolveResult const& result) {
@@ -287,9 +339,9 @@ TEST_CASE("bad input is refused with kInvalidInput", "[linsolve][input]") {
 
 TEST_CASE("a matrix that is not positive definite reports its failing column",
           "[linsolve][indefinite]") {
-  LinearSolverType const type = GENERATE(from_range(AvailableLinearSolvers()));
-  CAPTURE(ToString(type));
-  std::unique_ptr<LinearSolver> solver = MakeSolver(type);
+  Backend const backend = GENERATE(from_range(DirectBackends()));
+  CAPTURE(backend.Name());
+  std::unique_ptr<LinearSolver> solver = MakeSolver(backend);
 
   // With A(k, k) <= 0 and the rest strictly diagonally dominant, every
   // elimination order fails exactly at column k: the columns eliminated
@@ -321,9 +373,9 @@ TEST_CASE("a matrix that is not positive definite reports its failing column",
 }
 
 TEST_CASE("an empty system is analyzed, factorized and solved", "[linsolve][empty]") {
-  LinearSolverType const type = GENERATE(from_range(AvailableLinearSolvers()));
-  CAPTURE(ToString(type));
-  std::unique_ptr<LinearSolver> solver = MakeSolver(type);
+  Backend const backend = GENERATE(from_range(AllBackends()));
+  CAPTURE(backend.Name());
+  std::unique_ptr<LinearSolver> solver = MakeSolver(backend);
   SparseSymmetricMatrix a;
   a.colStart = {0};
   REQUIRE(solver->Analyze(a).Ok());
@@ -339,6 +391,7 @@ TEST_CASE("the factory lists, resolves and creates backends", "[linsolve][factor
   REQUIRE(has(LinearSolverType::Dense));
   REQUIRE(has(LinearSolverType::Cholmod) == (SUPERDEX_HAS_CHOLMOD != 0));
   REQUIRE(!has(LinearSolverType::Auto));
+  REQUIRE(has(LinearSolverType::PetscPcg) == (SUPERDEX_HAS_PETSC != 0));
 
   SECTION("kAuto picks dense up to kDenseSolverMaxSize") {
     REQUIRE(kDenseSolverMaxSize > 0);
@@ -366,6 +419,8 @@ TEST_CASE("the factory lists, resolves and creates backends", "[linsolve][factor
   SECTION("names") {
     REQUIRE(ToString(LinearSolverType::Cholmod) == "Cholmod");
     REQUIRE(ToString(LinearSolverType::Dense) == "Dense");
+    REQUIRE(ToString(LinearSolverType::PetscPcg) == "PetscPcg");
+    REQUIRE(ToString(PcgPreconditioner::Gamg) == "Gamg");
     REQUIRE(ToString(LinearSolverType::Auto) == "Auto");
     REQUIRE(ToString(LinearSolveStatus::Ok) == "Ok");
     REQUIRE(ToString(LinearSolveStatus::NotPositiveDefinite) == "NotPositiveDefinite");

@@ -1,0 +1,497 @@
+#include <superdex/linsolve/petsc_pcg_solver.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cstdio>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <string>
+
+#include <petscksp.h>
+
+#include <superdex/core/validate.h>
+#include <superdex/linsolve/petsc_runtime.h>
+
+namespace superdex::internal {
+
+struct PetscPcgSolver::Impl {
+  Mat matrix = nullptr;
+  KSP ksp = nullptr;
+  Vec rhs = nullptr;       ///< owns its storage; b is copied in
+  Vec solution = nullptr;  ///< no storage of its own: wraps the caller's x
+  int size = 0;
+  /// AIJ value position of each upper-triangle CSC entry k of A, as entry
+  /// (i, j) of row i, and as its mirror (j, i) of row j (-1 on the diagonal)
+  DynamicArray<PetscInt> upperSlot, lowerSlot;
+  DynamicArray<PetscInt> blockSizes;  ///< A's DoF blocks (PCVPBJACOBI)
+  bool hasNearNullSpace = false;
+  int setUps = 0;  ///< Factorize calls since Analyze
+  real relativeTolerance = 0;
+
+  std::string prefix;                      ///< this solver's options prefix, "sdx<N>_"
+  DynamicArray<std::string> defaultNames;  ///< options SuperDex inserted
+  DynamicArray<std::string> userNames;     ///< PcgParams::options, checked for use
+  bool optionsChecked = false;
+
+  void DestroyObjects() {
+    if (IsPetscFinalized()) {  // PETSc is gone; so are its objects
+      matrix = nullptr, ksp = nullptr, rhs = nullptr, solution = nullptr;
+      return;
+    }
+    KSPDestroy(&ksp);
+    MatDestroy(&matrix);
+    VecDestroy(&rhs);
+    VecDestroy(&solution);
+  }
+  void ClearOptions() {
+    if (IsPetscFinalized()) return;
+    for (auto const& name : defaultNames) PetscOptionsClearValue(nullptr, name.c_str());
+    for (auto const& name : userNames) PetscOptionsClearValue(nullptr, name.c_str());
+    defaultNames.clear();
+    userNames.clear();
+  }
+};
+
+namespace {
+
+// "-ksp_monitor" → "-sdx3_ksp_monitor"
+std::string Prefixed(std::string const& prefix, std::string const& option) {
+  return "-" + prefix + option.substr(1);
+}
+
+// an option name is '-' followed by a letter; "-1e-3" is a value
+bool IsOptionName(std::string const& token) {
+  return token.size() >= 2 && token[0] == '-' && std::isalpha(static_cast<unsigned char>(token[1]));
+}
+
+struct OptionPair {
+  std::string name, value;
+};
+
+// Splits "-a 1 -b -c x" into {-a 1} {-b} {-c x}. Returns false and names the
+// token when a value does not follow an option name.
+bool ParseOptions(std::string const& text, DynamicArray<OptionPair>& pairs, std::string& bad) {
+  std::size_t pos = 0;
+  auto nextToken = [&](std::string& token) {
+    pos = text.find_first_not_of(" \t\n", pos);
+    if (pos == std::string::npos) return false;
+    std::size_t const end = text.find_first_of(" \t\n", pos);
+    token = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+    pos = end;
+    return true;
+  };
+  std::string token;
+  while (nextToken(token)) {
+    if (IsOptionName(token)) {
+      pairs.push_back({token, {}});
+    } else if (!pairs.empty() && pairs.back().value.empty()) {
+      pairs.back().value = token;
+    } else {
+      bad = token;
+      return false;
+    }
+  }
+  return true;
+}
+
+std::string PetscMessage(PetscErrorCode code) {
+  char const* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  return text ? text : "unknown PETSc error";
+}
+
+LinearSolveResult Failure(LinearSolveStatus status, std::string reason) {
+  LinearSolveResult result;
+  result.status = status;
+  result.reason = std::move(reason);
+  return result;
+}
+
+char const* PcTypeName(PcgPreconditioner preconditioner) {
+  switch (preconditioner) {
+    case PcgPreconditioner::None: return PCNONE;
+    case PcgPreconditioner::Jacobi: return PCJACOBI;
+    case PcgPreconditioner::PointBlockJacobi: return PCVPBJACOBI;
+    case PcgPreconditioner::BlockJacobi: return PCBJACOBI;
+    case PcgPreconditioner::Icc: return PCICC;
+    case PcgPreconditioner::Gamg: return PCGAMG;
+    case PcgPreconditioner::BoomerAmg: return PCHYPRE;
+  }
+  return PCNONE;
+}
+
+std::atomic<int> nextSolverId{0};
+
+}  // namespace
+
+// Returns a BackendError result naming the PETSc call when it fails.
+#define SUPERDEX_PETSC(call)                                                                   \
+  do {                                                                                         \
+    if (PetscErrorCode const code_ = (call); code_ != 0)                                       \
+      return Failure(LinearSolveStatus::BackendError,                                          \
+                     std::string("PETSc ") + #call + " failed: " + PetscMessage(code_));       \
+  } while (false)
+
+PetscPcgSolver::PetscPcgSolver(PcgParams const& params) : params_(params), impl_(new Impl) {
+  impl_->prefix = "sdx" + std::to_string(nextSolverId++) + "_";
+  impl_->relativeTolerance = params.relativeTolerance;
+}
+
+PetscPcgSolver::~PetscPcgSolver() {
+  impl_->DestroyObjects();
+  impl_->ClearOptions();
+}
+
+std::string PetscPcgSolver::GetDescription() const {
+  char rtol[32];
+  std::snprintf(rtol, sizeof(rtol), "%.3g", params_.relativeTolerance);
+  std::string text = "PETSc " + std::to_string(PETSC_VERSION_MAJOR) + "." +
+                     std::to_string(PETSC_VERSION_MINOR) + "." +
+                     std::to_string(PETSC_VERSION_SUBMINOR) + " CG + " +
+                     std::string(ToString(params_.preconditioner));
+  if (params_.preconditioner == PcgPreconditioner::Gamg)
+    text += impl_->hasNearNullSpace ? " (rigid-body near-null space)" : " (no near-null space)";
+  text += ", rtol " + std::string(rtol);
+  if (params_.adaptiveTolerance) text += " (adaptive)";
+  return text;
+}
+
+void PetscPcgSolver::SetRelativeTolerance(real relativeTolerance) {
+  impl_->relativeTolerance = relativeTolerance;
+  if (impl_->ksp)
+    KSPSetTolerances(impl_->ksp, relativeTolerance, params_.absoluteTolerance, PETSC_DEFAULT,
+                     params_.maxIterations);
+}
+
+bool PetscPcgSolver::WantsNearNullSpace() const {
+  return params_.preconditioner == PcgPreconditioner::Gamg;
+}
+
+void PetscPcgSolver::SetNearNullSpace(MatrixX const& modes) {
+  Impl& impl = *impl_;
+  if (!impl.matrix || modes.rows() != impl.size || modes.cols() == 0) return;
+  // orthonormal basis of the modes' span (PETSc requires it), dropping
+  // directions that are numerically dependent (e.g. rotations of one node)
+  Eigen::HouseholderQR<MatrixX> qr(modes);
+  MatrixX const q = qr.householderQ() * MatrixX::Identity(modes.rows(), modes.cols());
+  real const largest = qr.matrixQR().diagonal().cwiseAbs().maxCoeff();
+  DynamicArray<Vec> vectors;
+  for (Eigen::Index k = 0; k < modes.cols(); ++k) {
+    if (std::abs(qr.matrixQR()(k, k)) <= 1e-10 * largest) continue;
+    Vec v = nullptr;
+    if (VecCreateSeq(PETSC_COMM_SELF, impl.size, &v) != 0) break;
+    PetscScalar* values = nullptr;
+    VecGetArrayWrite(v, &values);
+    std::memcpy(values, q.col(k).data(), sizeof(real) * static_cast<std::size_t>(impl.size));
+    VecRestoreArrayWrite(v, &values);
+    vectors.push_back(v);
+  }
+  MatNullSpace space = nullptr;
+  if (!vectors.empty() &&
+      MatNullSpaceCreate(PETSC_COMM_SELF, PETSC_FALSE, static_cast<PetscInt>(vectors.size()),
+                         vectors.data(), &space) == 0) {
+    impl.hasNearNullSpace = MatSetNearNullSpace(impl.matrix, space) == 0;
+    MatNullSpaceDestroy(&space);  // the matrix keeps its own reference
+  }
+  for (Vec& v : vectors) VecDestroy(&v);
+}
+
+LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
+  Impl& impl = *impl_;
+  impl.DestroyObjects();
+  impl.ClearOptions();
+  impl.hasNearNullSpace = false;
+  impl.optionsChecked = false;
+  impl.setUps = 0;
+  int const n = a.size;
+  impl.size = n;
+
+  // full CSR of the symmetric A: row r holds its lower entries (from CSC
+  // column r, rows < r, in order), then the diagonal and upper entries (from
+  // CSC columns >= r, appended as the columns are visited in order)
+  DynamicArray<PetscInt> rowStart(static_cast<std::size_t>(n) + 1, 0);
+  DynamicArray<PetscInt> lowerCount(n), cursor(n);
+  for (int j = 0; j < n; ++j) {
+    lowerCount[j] = a.colStart[j + 1] - a.colStart[j] - 1;
+    for (int k = a.colStart[j]; k < a.colStart[j + 1]; ++k) ++rowStart[a.rowIndex[k] + 1];
+  }
+  for (int r = 0; r < n; ++r) {
+    rowStart[r + 1] += rowStart[r] + lowerCount[r];
+    cursor[r] = rowStart[r] + lowerCount[r];
+  }
+  DynamicArray<PetscInt> columns(static_cast<std::size_t>(rowStart[n]));
+  impl.upperSlot.assign(a.rowIndex.size(), -1);
+  impl.lowerSlot.assign(a.rowIndex.size(), -1);
+  for (int j = 0; j < n; ++j) {
+    for (int k = a.colStart[j]; k < a.colStart[j + 1]; ++k) {
+      int const i = a.rowIndex[k];
+      if (i < j) {
+        PetscInt const mirror = rowStart[j] + (k - a.colStart[j]);
+        columns[mirror] = i;
+        impl.lowerSlot[k] = mirror;
+      }
+      PetscInt const slot = cursor[i]++;
+      columns[slot] = j;
+      impl.upperSlot[k] = slot;
+    }
+  }
+
+  // DoF blocks: variable sizes for point-block Jacobi, their gcd as the
+  // matrix block size (AMG aggregates whole nodes)
+  if (a.blockSizes.empty())
+    impl.blockSizes.assign(n, 1);
+  else
+    impl.blockSizes.assign(a.blockSizes.begin(), a.blockSizes.end());
+  int blockSize = 0;
+  for (int size : a.blockSizes) blockSize = std::gcd(blockSize, size);
+  if (blockSize <= 0 || n % blockSize != 0) blockSize = 1;
+
+  SUPERDEX_PETSC(MatCreate(PETSC_COMM_SELF, &impl.matrix));
+  SUPERDEX_PETSC(MatSetSizes(impl.matrix, n, n, n, n));
+  SUPERDEX_PETSC(MatSetBlockSize(impl.matrix, blockSize));
+  SUPERDEX_PETSC(MatSetType(impl.matrix, MATSEQAIJ));
+  SUPERDEX_PETSC(MatSeqAIJSetPreallocationCSR(impl.matrix, rowStart.data(), columns.data(), nullptr));
+  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_SPD, PETSC_TRUE));
+  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_SPD_ETERNAL, PETSC_TRUE));
+  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
+  if (n > 0)
+    SUPERDEX_PETSC(MatSetVariableBlockSizes(impl.matrix, static_cast<PetscInt>(impl.blockSizes.size()),
+                                            impl.blockSizes.data()));
+  SUPERDEX_PETSC(MatCreateVecs(impl.matrix, &impl.solution, &impl.rhs));
+  // the solution Vec only ever wraps the caller's x: free its own storage
+  VecDestroy(&impl.solution);
+  SUPERDEX_PETSC(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, nullptr, &impl.solution));
+
+  // KSP: CG on the unpreconditioned residual, zero initial guess
+  SUPERDEX_PETSC(KSPCreate(PETSC_COMM_SELF, &impl.ksp));
+  SUPERDEX_PETSC(KSPSetOptionsPrefix(impl.ksp, impl.prefix.c_str()));
+  SUPERDEX_PETSC(KSPSetType(impl.ksp, KSPCG));
+  SUPERDEX_PETSC(KSPSetOperators(impl.ksp, impl.matrix, impl.matrix));
+  SUPERDEX_PETSC(KSPSetNormType(impl.ksp, KSP_NORM_UNPRECONDITIONED));
+  SUPERDEX_PETSC(KSPSetInitialGuessNonzero(impl.ksp, PETSC_FALSE));
+  SUPERDEX_PETSC(KSPSetTolerances(impl.ksp, impl.relativeTolerance, params_.absoluteTolerance,
+                                  PETSC_DEFAULT, params_.maxIterations));
+  PC pc = nullptr;
+  SUPERDEX_PETSC(KSPGetPC(impl.ksp, &pc));
+  SUPERDEX_PETSC(PCSetType(pc, PcTypeName(params_.preconditioner)));
+
+  // preconditioner settings SuperDex chooses, as options under this solver's
+  // prefix so that PcgParams::options (inserted after them) can override them
+  auto setDefault = [&](std::string const& option, std::string const& value) {
+    std::string const name = Prefixed(impl.prefix, option);
+    impl.defaultNames.push_back(name);
+    return PetscOptionsSetValue(nullptr, name.c_str(), value.c_str());
+  };
+  switch (params_.preconditioner) {
+    case PcgPreconditioner::BlockJacobi: {
+      // contiguous groups of whole DoF blocks with about equal DoF counts
+      int const groups = std::max(1, std::min(params_.blockJacobiBlocks, n));
+      DynamicArray<PetscInt> lengths;
+      int start = 0, dof = 0;
+      for (int size : a.blockSizes.empty() ? DynamicArray<int>(n, 1) : a.blockSizes) {
+        dof += size;
+        long const target = static_cast<long>(n) * (static_cast<long>(lengths.size()) + 1) / groups;
+        if (dof >= target) {
+          lengths.push_back(dof - start);
+          start = dof;
+        }
+      }
+      if (dof > start) lengths.push_back(dof - start);
+      if (!lengths.empty())
+        SUPERDEX_PETSC(PCBJacobiSetTotalBlocks(pc, static_cast<PetscInt>(lengths.size()), lengths.data()));
+      SUPERDEX_PETSC(setDefault("-sub_pc_type", "icc"));
+      SUPERDEX_PETSC(setDefault("-sub_pc_factor_levels", std::to_string(params_.iccLevels)));
+      break;
+    }
+    case PcgPreconditioner::Icc:
+      SUPERDEX_PETSC(PCFactorSetLevels(pc, params_.iccLevels));
+      break;
+    case PcgPreconditioner::Gamg:
+      SUPERDEX_PETSC(PCGAMGSetReuseInterpolation(pc, params_.reuseAmgInterpolation ? PETSC_TRUE
+                                                                                    : PETSC_FALSE));
+      break;
+    case PcgPreconditioner::BoomerAmg:
+      SUPERDEX_PETSC(PCHYPRESetType(pc, "boomeramg"));
+      SUPERDEX_PETSC(setDefault("-pc_hypre_boomeramg_strong_threshold", "0.5"));
+      break;
+    default:
+      break;
+  }
+  DynamicArray<OptionPair> userOptions;
+  std::string bad;
+  ParseOptions(params_.options, userOptions, bad);  // validated by ValidatePcgParams
+  for (auto const& option : userOptions) {
+    std::string const name = Prefixed(impl.prefix, option.name);
+    impl.userNames.push_back(name);
+    SUPERDEX_PETSC(PetscOptionsSetValue(nullptr, name.c_str(),
+                                        option.value.empty() ? nullptr : option.value.c_str()));
+  }
+  SUPERDEX_PETSC(KSPSetFromOptions(impl.ksp));
+  ++numObjectBuilds_;
+  return {};
+}
+
+LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
+  Impl& impl = *impl_;
+  // values in place: both triangles of the AIJ storage from A's upper CSC
+  PetscScalar* values = nullptr;
+  SUPERDEX_PETSC(MatSeqAIJGetArrayWrite(impl.matrix, &values));
+  std::size_t const numEntries = a.values.size();
+  for (std::size_t k = 0; k < numEntries; ++k) {
+    values[impl.upperSlot[k]] = a.values[k];
+    if (impl.lowerSlot[k] >= 0) values[impl.lowerSlot[k]] = a.values[k];
+  }
+  SUPERDEX_PETSC(MatSeqAIJRestoreArrayWrite(impl.matrix, &values));
+
+  // rebuild the preconditioner every preconditionerLag-th set-up
+  PC pc = nullptr;
+  SUPERDEX_PETSC(KSPGetPC(impl.ksp, &pc));
+  bool const reuse = impl.setUps % params_.preconditionerLag != 0;
+  ++impl.setUps;
+  SUPERDEX_PETSC(PCSetReusePreconditioner(pc, reuse ? PETSC_TRUE : PETSC_FALSE));
+  SUPERDEX_PETSC(KSPSetUp(impl.ksp));
+  PCFailedReason failed = PC_NOERROR;
+  SUPERDEX_PETSC(PCGetFailedReason(pc, &failed));
+  if (failed != PC_NOERROR) {
+    return Failure(LinearSolveStatus::NotConverged,
+                   "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) +
+                       " set-up failed: PC_" + PCFailedReasons[failed]);
+  }
+
+  // every option of PcgParams::options must have been read by now
+  if (!impl.optionsChecked) {
+    impl.optionsChecked = true;
+    for (std::size_t i = 0; i < impl.userNames.size(); ++i) {
+      PetscBool used = PETSC_FALSE;
+      // the database stores names without their leading '-'
+      SUPERDEX_PETSC(PetscOptionsUsed(nullptr, impl.userNames[i].c_str() + 1, &used));
+      if (!used) {
+        std::string const option = "-" + impl.userNames[i].substr(1 + impl.prefix.size());
+        return Failure(LinearSolveStatus::InvalidInput,
+                       "PcgParams.options: PETSc did not use the option '" + option +
+                           "' (unknown, or not applicable to preconditioner " +
+                           std::string(ToString(params_.preconditioner)) + ")");
+      }
+    }
+  }
+  return {};
+}
+
+LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
+  Impl& impl = *impl_;
+  PetscScalar* rhs = nullptr;
+  SUPERDEX_PETSC(VecGetArrayWrite(impl.rhs, &rhs));
+  std::memcpy(rhs, b.data(), sizeof(real) * b.size());
+  SUPERDEX_PETSC(VecRestoreArrayWrite(impl.rhs, &rhs));
+  SUPERDEX_PETSC(VecPlaceArray(impl.solution, x.data()));
+  PetscErrorCode const code = KSPSolve(impl.ksp, impl.rhs, impl.solution);
+  VecResetArray(impl.solution);
+  if (code != 0)
+    return Failure(LinearSolveStatus::BackendError, "PETSc KSPSolve failed: " + PetscMessage(code));
+
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  PetscInt iterations = 0;
+  PetscReal residual = 0, rhsNorm = 0;
+  SUPERDEX_PETSC(KSPGetConvergedReason(impl.ksp, &reason));
+  SUPERDEX_PETSC(KSPGetIterationNumber(impl.ksp, &iterations));
+  SUPERDEX_PETSC(KSPGetResidualNorm(impl.ksp, &residual));
+  SUPERDEX_PETSC(VecNorm(impl.rhs, NORM_2, &rhsNorm));
+
+  LinearSolveResult result;
+  result.iterations = static_cast<int>(iterations);
+  result.relativeResidual = rhsNorm > 0 ? residual / rhsNorm : 0;
+  if (reason < 0) {
+    char detail[160];
+    std::snprintf(detail, sizeof(detail), " after %d iterations, relative residual %.3g (rtol %.3g)",
+                  result.iterations, result.relativeResidual, impl.relativeTolerance);
+    result.status = LinearSolveStatus::NotConverged;
+    result.reason = "PETSc CG + " + std::string(ToString(params_.preconditioner)) +
+                    " did not converge: KSP_" + KSPConvergedReasons[reason] + detail;
+    if (reason == KSP_DIVERGED_PC_FAILED) {
+      PC pc = nullptr;
+      PCFailedReason failed = PC_NOERROR;
+      KSPGetPC(impl.ksp, &pc);
+      PCGetFailedReason(pc, &failed);
+      result.reason += std::string(" (PC_") + PCFailedReasons[failed] + ")";
+    }
+  }
+  return result;
+}
+
+#undef SUPERDEX_PETSC
+
+}  // namespace superdex::internal
+
+namespace superdex {
+
+std::string_view ToString(PcgPreconditioner preconditioner) {
+  switch (preconditioner) {
+    case PcgPreconditioner::None: return "None";
+    case PcgPreconditioner::Jacobi: return "Jacobi";
+    case PcgPreconditioner::PointBlockJacobi: return "PointBlockJacobi";
+    case PcgPreconditioner::BlockJacobi: return "BlockJacobi";
+    case PcgPreconditioner::Icc: return "Icc";
+    case PcgPreconditioner::Gamg: return "Gamg";
+    case PcgPreconditioner::BoomerAmg: return "BoomerAmg";
+  }
+  return "Unknown";
+}
+
+DynamicArray<PcgPreconditioner> AvailablePcgPreconditioners() {
+  DynamicArray<PcgPreconditioner> available{
+      PcgPreconditioner::None, PcgPreconditioner::Jacobi, PcgPreconditioner::PointBlockJacobi,
+      PcgPreconditioner::BlockJacobi, PcgPreconditioner::Icc, PcgPreconditioner::Gamg};
+#if defined(PETSC_HAVE_HYPRE)
+  available.push_back(PcgPreconditioner::BoomerAmg);
+#endif
+  return available;
+}
+
+bool ValidatePcgParams(PcgParams const& params, Error& error) {
+  using internal::Format;
+  auto const invalid = [&](std::string message) {
+    error.Set(ErrorCode::InvalidArgument, "PcgParams." + std::move(message));
+    return false;
+  };
+  auto const available = AvailablePcgPreconditioners();
+  if (std::find(available.begin(), available.end(), params.preconditioner) == available.end()) {
+    int const value = static_cast<int>(params.preconditioner);
+    if (value < 0 || value > static_cast<int>(PcgPreconditioner::BoomerAmg))
+      return invalid("preconditioner must be a PcgPreconditioner, got the value " +
+                     std::to_string(value));
+    error.Set(ErrorCode::NotSupported,
+              "PcgParams.preconditioner " + std::string(ToString(params.preconditioner)) +
+                  " is not in this build (PETSc without hypre)");
+    return false;
+  }
+  if (!(params.relativeTolerance > 0 && params.relativeTolerance < 1))
+    return invalid("relativeTolerance must be in (0, 1), got " + Format(params.relativeTolerance));
+  if (!(params.absoluteTolerance >= 0) || !std::isfinite(params.absoluteTolerance))
+    return invalid("absoluteTolerance must be finite and >= 0, got " +
+                   Format(params.absoluteTolerance));
+  if (params.maxIterations <= 0)
+    return invalid("maxIterations must be > 0, got " + std::to_string(params.maxIterations));
+  if (!(params.adaptiveMaxTolerance >= params.relativeTolerance && params.adaptiveMaxTolerance < 1))
+    return invalid("adaptiveMaxTolerance must be in [relativeTolerance, 1) = [" +
+                   Format(params.relativeTolerance) + ", 1), got " +
+                   Format(params.adaptiveMaxTolerance));
+  if (params.preconditionerLag < 1)
+    return invalid("preconditionerLag must be >= 1, got " +
+                   std::to_string(params.preconditionerLag));
+  if (params.blockJacobiBlocks < 1)
+    return invalid("blockJacobiBlocks must be >= 1, got " +
+                   std::to_string(params.blockJacobiBlocks));
+  if (params.iccLevels < 0)
+    return invalid("iccLevels must be >= 0, got " + std::to_string(params.iccLevels));
+  DynamicArray<internal::OptionPair> pairs;
+  std::string bad;
+  if (!internal::ParseOptions(params.options, pairs, bad))
+    return invalid("options: '" + bad +
+                   "' is neither a PETSc option name (-name) nor the value of the option before it"
+                   ", in \"" + params.options + "\"");
+  return true;
+}
+
+}  // namespace superdex

@@ -1,0 +1,232 @@
+// The PETSc PCG backend beyond the shared conformance test: non-convergence
+// with PETSc's reason, object reuse across factorizations, the relative
+// tolerance, the preconditioner lag, option pass-through and its errors, and
+// the parameter checks.
+#include <limits>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include <superdex/linsolve/linear_solver.h>
+
+#include "linsolve/test_systems.h"
+
+namespace superdex {
+namespace {
+
+using test::Laplacian2d;
+using test::Laplacian3d;
+using test::RelativeResidual;
+using test::TestRhs;
+using test::View;
+
+bool Contains(std::string const& text, std::string const& part) {
+  return text.find(part) != std::string::npos;
+}
+
+std::unique_ptr<LinearSolver> MakePcg(PcgParams const& params) {
+  Error error;
+  std::unique_ptr<LinearSolver> solver = CreateLinearSolver(LinearSolverType::PetscPcg, params, error);
+  INFO(error.ToString());
+  REQUIRE(solver != nullptr);
+  return solver;
+}
+
+PcgParams WithPreconditioner(PcgPreconditioner preconditioner) {
+  PcgParams params;
+  params.preconditioner = preconditioner;
+  return params;
+}
+
+TEST_CASE("PCG reports non-convergence with PETSc's reason", "[linsolve][pcg]") {
+  SparseSymmetricMatrix const a = Laplacian3d(10, 1e-4);  // κ ~ 1e4: CG needs ~100 iterations
+  VectorX const b = TestRhs(a.size);
+  VectorX x(a.size);
+
+  SECTION("iteration cap") {
+    PcgParams params = WithPreconditioner(PcgPreconditioner::Jacobi);
+    params.maxIterations = 3;
+    auto solver = MakePcg(params);
+    REQUIRE(solver->Analyze(a).Ok());
+    REQUIRE(solver->Factorize(a).Ok());
+    LinearSolveResult const result = solver->Solve(View(b), View(x));
+    CAPTURE(result.reason);
+    REQUIRE(result.status == LinearSolveStatus::NotConverged);
+    REQUIRE(result.iterations == 3);
+    REQUIRE(result.relativeResidual > params.relativeTolerance);
+    REQUIRE(Contains(result.reason, "KSP_DIVERGED_ITS"));
+    REQUIRE(Contains(result.reason, "Jacobi"));
+  }
+  SECTION("indefinite matrix") {
+    // a negative diagonal entry in a diagonally dominant matrix: the Jacobi
+    // preconditioner is indefinite, which CG detects
+    auto solver = MakePcg(WithPreconditioner(PcgPreconditioner::Jacobi));
+    SparseSymmetricMatrix const indefinite = test::WithDiagonal(a, 17, -10);
+    REQUIRE(solver->Analyze(indefinite).Ok());
+    LinearSolveResult result = solver->Factorize(indefinite);
+    if (result.Ok()) result = solver->Solve(View(b), View(x));
+    CAPTURE(result.reason);
+    REQUIRE(result.status == LinearSolveStatus::NotConverged);
+    REQUIRE(Contains(result.reason, "KSP_DIVERGED_INDEFINITE"));
+  }
+}
+
+TEST_CASE("PCG creates its PETSc objects once per Analyze", "[linsolve][pcg]") {
+  PcgPreconditioner const preconditioner = GENERATE(from_range(AvailablePcgPreconditioners()));
+  CAPTURE(ToString(preconditioner));
+  auto solver = MakePcg(WithPreconditioner(preconditioner));
+  SparseSymmetricMatrix a = Laplacian2d(20, 20, 0.01);
+  REQUIRE(solver->GetNumObjectBuilds() == 0);
+  REQUIRE(solver->Analyze(a).Ok());
+  VectorX const b = TestRhs(a.size);
+  VectorX x(a.size);
+  for (int iteration = 0; iteration < 6; ++iteration) {
+    for (real& value : a.values) value *= 1.1;
+    REQUIRE(solver->Factorize(a).Ok());
+    LinearSolveResult const result = solver->Solve(View(b), View(x));
+    CAPTURE(result.reason);
+    REQUIRE(result.Ok());
+    // the new values reached PETSc (a stale matrix would miss the scaling)
+    REQUIRE(RelativeResidual(a, x, b) <= 1e-7);
+  }
+  REQUIRE(solver->GetNumObjectBuilds() == 1);
+  REQUIRE(solver->Analyze(a).Ok());
+  REQUIRE(solver->GetNumObjectBuilds() == 2);
+}
+
+TEST_CASE("PCG meets the relative tolerance it is given", "[linsolve][pcg]") {
+  auto solver = MakePcg(WithPreconditioner(PcgPreconditioner::Icc));
+  SparseSymmetricMatrix const a = Laplacian3d(12, 1e-3);
+  VectorX const b = TestRhs(a.size);
+  VectorX x(a.size);
+  REQUIRE(solver->Analyze(a).Ok());
+  REQUIRE(solver->Factorize(a).Ok());
+  int previousIterations = 0;
+  for (real tolerance : {1e-2, 1e-5, 1e-10}) {
+    CAPTURE(tolerance);
+    solver->SetRelativeTolerance(tolerance);
+    LinearSolveResult const result = solver->Solve(View(b), View(x));
+    REQUIRE(result.Ok());
+    REQUIRE(RelativeResidual(a, x, b) <= tolerance);
+    REQUIRE(result.relativeResidual <= tolerance);
+    REQUIRE(result.iterations > previousIterations);  // tighter costs more
+    previousIterations = result.iterations;
+  }
+}
+
+TEST_CASE("PCG with a lagged preconditioner still converges on new values", "[linsolve][pcg]") {
+  PcgParams params = WithPreconditioner(PcgPreconditioner::Gamg);
+  params.preconditionerLag = 3;
+  params.relativeTolerance = 1e-10;
+  auto solver = MakePcg(params);
+  SparseSymmetricMatrix a = Laplacian3d(10, 1e-2);
+  SparseSymmetricMatrix const base = a;
+  VectorX const b = TestRhs(a.size);
+  VectorX x(a.size);
+  REQUIRE(solver->Analyze(a).Ok());
+  for (int iteration = 0; iteration < 5; ++iteration) {
+    // the diagonal grows: a preconditioner built on earlier values is stale
+    for (int j = 0; j < a.size; ++j)
+      a.values[a.colStart[j + 1] - 1] = base.values[a.colStart[j + 1] - 1] * (1 + iteration);
+    REQUIRE(solver->Factorize(a).Ok());
+    REQUIRE(solver->Solve(View(b), View(x)).Ok());
+    REQUIRE(RelativeResidual(a, x, b) <= 1e-10);
+  }
+}
+
+TEST_CASE("PETSc options pass through, scoped to the solver", "[linsolve][pcg][options]") {
+  SparseSymmetricMatrix const a = Laplacian3d(10, 1e-4);
+  VectorX const b = TestRhs(a.size);
+  VectorX x(a.size);
+
+  SECTION("an option overrides a setting") {
+    PcgParams params = WithPreconditioner(PcgPreconditioner::Jacobi);
+    params.options = "-ksp_max_it 4";
+    auto solver = MakePcg(params);
+    REQUIRE(solver->Analyze(a).Ok());
+    REQUIRE(solver->Factorize(a).Ok());
+    LinearSolveResult const result = solver->Solve(View(b), View(x));
+    REQUIRE(result.status == LinearSolveStatus::NotConverged);
+    REQUIRE(result.iterations == 4);
+
+    // another solver does not see this solver's options
+    auto other = MakePcg(WithPreconditioner(PcgPreconditioner::Jacobi));
+    REQUIRE(other->Analyze(a).Ok());
+    REQUIRE(other->Factorize(a).Ok());
+    REQUIRE(other->Solve(View(b), View(x)).Ok());
+  }
+  SECTION("an option for the preconditioner") {
+    PcgParams params = WithPreconditioner(PcgPreconditioner::Gamg);
+    params.options = "-pc_gamg_threshold 0.02 -pc_gamg_agg_nsmooths 1";
+    auto solver = MakePcg(params);
+    REQUIRE(solver->Analyze(a).Ok());
+    LinearSolveResult const result = solver->Factorize(a);
+    CAPTURE(result.reason);
+    REQUIRE(result.Ok());
+    REQUIRE(solver->Solve(View(b), View(x)).Ok());
+  }
+  SECTION("an option PETSc does not use is an error naming it") {
+    PcgParams params = WithPreconditioner(PcgPreconditioner::Jacobi);
+    params.options = "-pc_gamg_threshold 0.02";  // not a Jacobi option
+    auto solver = MakePcg(params);
+    REQUIRE(solver->Analyze(a).Ok());
+    LinearSolveResult const result = solver->Factorize(a);
+    CAPTURE(result.reason);
+    REQUIRE(result.status == LinearSolveStatus::InvalidInput);
+    REQUIRE(Contains(result.reason, "-pc_gamg_threshold"));
+    REQUIRE(Contains(result.reason, "PcgParams.options"));
+  }
+}
+
+TEST_CASE("PcgParams are checked field by field", "[linsolve][pcg][input]") {
+  auto const requireInvalid = [](PcgParams const& params, std::string const& field) {
+    Error error;
+    REQUIRE_FALSE(ValidatePcgParams(params, error));
+    CAPTURE(error.ToString());
+    REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
+    REQUIRE(Contains(error.GetMessage(), "PcgParams." + field));
+    // the factory refuses the same parameters
+    Error factoryError;
+    REQUIRE(CreateLinearSolver(LinearSolverType::PetscPcg, params, factoryError) == nullptr);
+    REQUIRE(factoryError.GetCode() == ErrorCode::InvalidArgument);
+  };
+  Error error;
+  REQUIRE(ValidatePcgParams(PcgParams{}, error));
+
+  PcgParams p;
+  p.relativeTolerance = 0;
+  requireInvalid(p, "relativeTolerance");
+  p = {};
+  p.relativeTolerance = std::numeric_limits<real>::quiet_NaN();
+  requireInvalid(p, "relativeTolerance");
+  p = {};
+  p.absoluteTolerance = -1;
+  requireInvalid(p, "absoluteTolerance");
+  p = {};
+  p.maxIterations = 0;
+  requireInvalid(p, "maxIterations");
+  p = {};
+  p.adaptiveMaxTolerance = 1;
+  requireInvalid(p, "adaptiveMaxTolerance");
+  p = {};
+  p.preconditionerLag = 0;
+  requireInvalid(p, "preconditionerLag");
+  p = {};
+  p.blockJacobiBlocks = 0;
+  requireInvalid(p, "blockJacobiBlocks");
+  p = {};
+  p.iccLevels = -1;
+  requireInvalid(p, "iccLevels");
+  p = {};
+  p.preconditioner = static_cast<PcgPreconditioner>(99);
+  requireInvalid(p, "preconditioner");
+  p = {};
+  p.options = "0.5 -ksp_monitor";
+  requireInvalid(p, "options");
+  p = {};
+  p.options = "-ksp_max_it 4 5";
+  requireInvalid(p, "options");
+}
+
+}  // namespace
+}  // namespace superdex

@@ -1,0 +1,261 @@
+// Scenes stepped with the PETSc PCG backend:
+//  - 30 steps with PCG at rtol 1e-10 agree with CHOLMOD within 1e-6 in every
+//    position (a clamped deformable beam with a rigid block hung from it, for
+//    every preconditioner);
+//  - the PETSc Mat/KSP are created once per pattern build, across Newton
+//    iterations and 100 steps, and once more after a topology change;
+//  - a PCG that cannot converge makes Step fail with an Error naming the
+//    solver and PETSc's reason, and the scene is unchanged;
+//  - the solver switches at run time between steps, analysing lazily;
+//  - inexact Newton (adaptive tolerance) reaches the same answer with fewer
+//    CG iterations;
+//  - bad PCG settings are refused by Scene::Create and SetLinearSolver.
+#include "test_scenes.h"
+
+#include <cstring>
+
+using namespace superdex;
+using namespace superdex::test;
+
+namespace {
+
+bool Contains(std::string const& text, std::string const& part) {
+  return text.find(part) != std::string::npos;
+}
+
+/// A 0.6 × 0.1 × 0.1 m beam (E = 1e6) clamped at x = 0, with a rigid block
+/// hung from its tip by DeformableNodeToRigid couplings: deformable, rigid and
+/// constraint blocks in one Hessian.
+struct BeamScene {
+  std::unique_ptr<Scene> scene;
+  DeformableActor* beam = nullptr;
+  RigidActor* block = nullptr;
+
+  /// Every position of the scene: beam nodes, then the block's centre.
+  DynamicArray<Real3> Positions() const {
+    DynamicArray<Real3> positions = beam->GetNodePositions();
+    positions.push_back(block->GetPosition());
+    return positions;
+  }
+};
+
+BeamScene MakeBeamScene(SceneParams params) {
+  params.newton.velocityTolerance = 1e-9;  // both solvers converge far below the 1e-6 comparison
+  BeamScene s;
+  s.scene = MakeScene(params);
+  DeformableActorParams material;
+  material.youngModulus = 1e6;
+  material.density = 1000;
+  s.beam = MakeBox(*s.scene, Real3(0, -0.05, -0.05), Real3(0.6, 0.1, 0.1), {6, 2, 2}, material);
+  PinNodes(*s.scene, *s.beam, 1e7, [](Real3 const& x) { return x.x() < 1e-9; });
+  RigidActorParams body;
+  body.mass = 0.5;
+  body.inertia = Real3(1e-3, 1e-3, 1e-3);
+  body.position = Real3(0.6, -0.15, 0);
+  s.block = MakeRigid(*s.scene, body);
+  Error error;
+  for (int i = 0; i < s.beam->GetNumNodes(); ++i) {
+    Real3 const x = s.beam->GetNodeReferencePosition(i);
+    if (x.x() < 0.6 - 1e-9 || x.y() > -0.05 + 1e-9) continue;  // tip's bottom edge
+    DeformableNodeToRigidConstraintParams p;
+    p.deformableActor = s.beam->GetHandle();
+    p.deformableNodeIndex = i;
+    p.rigidActor = s.block->GetHandle();
+    p.stiffness = 1e6;
+    REQUIRE(s.scene->CreateDeformableNodeToRigidConstraint(p, error));
+  }
+  return s;
+}
+
+real MaxRelativeDifference(DynamicArray<Real3> const& a, DynamicArray<Real3> const& b) {
+  REQUIRE(a.size() == b.size());
+  real worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    real const scale = std::max({a[i].norm(), b[i].norm(), real(1e-3)});
+    worst = std::max(worst, (a[i] - b[i]).norm() / scale);
+  }
+  return worst;
+}
+
+constexpr real kDt = 1.0 / 60;
+
+DynamicArray<Real3> CholmodReference(int steps) {
+  SceneParams params;
+  params.linearSolver = LinearSolverType::Cholmod;
+  BeamScene s = MakeBeamScene(params);
+  StepOk(*s.scene, kDt, steps);
+  return s.Positions();
+}
+
+}  // namespace
+
+TEST_CASE("PCG at rtol 1e-10 agrees with CHOLMOD over 30 steps", "[scene][pcg]") {
+  DynamicArray<Real3> const reference = CholmodReference(30);
+  PcgPreconditioner const preconditioner = GENERATE(from_range(AvailablePcgPreconditioners()));
+  CAPTURE(ToString(preconditioner));
+  SceneParams params;
+  params.linearSolver = LinearSolverType::PetscPcg;
+  params.pcg.preconditioner = preconditioner;
+  params.pcg.relativeTolerance = 1e-10;
+  BeamScene s = MakeBeamScene(params);
+  StepOk(*s.scene, kDt, 30);
+  REQUIRE(Contains(s.scene->GetStats().linearSolver, "PETSc"));
+  REQUIRE(s.scene->GetStats().linearIterations > 0);
+
+  real const difference = MaxRelativeDifference(s.Positions(), reference);
+  CAPTURE(difference);
+  REQUIRE(difference <= 1e-6);
+  // the beam really moved: the comparison is not of two resting scenes
+  REQUIRE((s.block->GetPosition() - Real3(0.6, -0.15, 0)).norm() > 1e-3);
+}
+
+TEST_CASE("PETSc objects are created once per pattern build", "[scene][pcg][reuse]") {
+  SceneParams params;
+  params.linearSolver = LinearSolverType::PetscPcg;
+  params.pcg.preconditioner = GENERATE(PcgPreconditioner::Jacobi, PcgPreconditioner::Gamg);
+  CAPTURE(ToString(params.pcg.preconditioner));
+  BeamScene s = MakeBeamScene(params);
+  std::int64_t newtonIterations = 0;
+  for (int step = 0; step < 100; ++step) {
+    StepOk(*s.scene, kDt);
+    newtonIterations += s.scene->GetStats().newtonIterations;
+  }
+  SceneStats const& stats = s.scene->GetStats();
+  REQUIRE(newtonIterations > 100);  // several Newton iterations per step on average
+  REQUIRE(stats.patternBuilds == 1);
+  REQUIRE(stats.symbolicAnalyses == 1);
+  REQUIRE(stats.linearSolverObjectBuilds == 1);
+
+  // a topology change rebuilds the pattern, and the PETSc objects once more
+  PinNodes(*s.scene, *s.beam, 1e5, [](Real3 const& x) { return x.x() > 0.6 - 1e-9 && x.y() > 0; });
+  StepOk(*s.scene, kDt, 10);
+  REQUIRE(stats.patternBuilds == 2);
+  REQUIRE(stats.linearSolverObjectBuilds == 2);
+}
+
+TEST_CASE("a PCG that cannot converge fails the step and changes nothing", "[scene][pcg][failure]") {
+  // Jacobi with 5 iterations against stiff constraints
+  SceneParams params;
+  params.linearSolver = LinearSolverType::PetscPcg;
+  params.pcg.preconditioner = PcgPreconditioner::Jacobi;
+  params.pcg.maxIterations = 5;
+  BeamScene s = MakeBeamScene(params);
+  DynamicArray<Real3> const before = s.Positions();
+  DynamicArray<Real3> const velocitiesBefore = [&] {
+    DynamicArray<Real3> v;
+    for (int i = 0; i < s.beam->GetNumNodes(); ++i) v.push_back(s.beam->GetNodeVelocity(i));
+    return v;
+  }();
+
+  Error error;
+  REQUIRE_FALSE(s.scene->Step(kDt, error));
+  CAPTURE(error.ToString());
+  REQUIRE(error.GetCode() == ErrorCode::LinearSolverFailed);
+  REQUIRE(Contains(error.GetMessage(), "PETSc"));
+  REQUIRE(Contains(error.GetMessage(), "Jacobi"));
+  REQUIRE(Contains(error.GetMessage(), "KSP_DIVERGED_ITS"));
+  REQUIRE(Contains(error.GetMessage(), "Newton iteration 1"));
+
+  DynamicArray<Real3> const after = s.Positions();
+  REQUIRE(std::memcmp(before.data(), after.data(), sizeof(Real3) * before.size()) == 0);
+  for (int i = 0; i < s.beam->GetNumNodes(); ++i)
+    REQUIRE(s.beam->GetNodeVelocity(i) == velocitiesBefore[i]);
+  REQUIRE(s.scene->GetTime() == 0);
+  REQUIRE(s.scene->GetStats().steps == 0);
+
+  // the same scene steps once the solver can converge
+  PcgParams enough = params.pcg;
+  enough.maxIterations = 10000;
+  REQUIRE(s.scene->SetLinearSolver(LinearSolverType::PetscPcg, enough, error));
+  StepOk(*s.scene, kDt);
+}
+
+TEST_CASE("the linear solver switches between steps at run time", "[scene][pcg][switch]") {
+  DynamicArray<Real3> const reference = CholmodReference(12);
+  SceneParams params;
+  params.linearSolver = LinearSolverType::Cholmod;
+  BeamScene s = MakeBeamScene(params);
+  Scene& scene = *s.scene;
+  Error error;
+  PcgParams gamg;
+  gamg.relativeTolerance = 1e-10;
+  StepOk(scene, kDt, 3);
+  REQUIRE(Contains(scene.GetStats().linearSolver, "CHOLMOD"));
+  REQUIRE(scene.SetLinearSolver(LinearSolverType::PetscPcg, gamg, error));
+  REQUIRE(scene.GetParams().linearSolver == LinearSolverType::PetscPcg);
+  StepOk(scene, kDt, 3);
+  REQUIRE(Contains(scene.GetStats().linearSolver, "CG + Gamg (rigid-body near-null space)"));
+  REQUIRE(scene.SetLinearSolver(LinearSolverType::Dense, error));
+  StepOk(scene, kDt, 3);
+  REQUIRE(Contains(scene.GetStats().linearSolver, "dense"));
+  PcgParams icc = gamg;
+  icc.preconditioner = PcgPreconditioner::Icc;
+  REQUIRE(scene.SetLinearSolver(LinearSolverType::PetscPcg, icc, error));
+  StepOk(scene, kDt, 3);
+  REQUIRE(Contains(scene.GetStats().linearSolver, "Icc"));
+
+  // one pattern; each new backend analysed it once, lazily
+  REQUIRE(scene.GetStats().patternBuilds == 1);
+  REQUIRE(scene.GetStats().symbolicAnalyses == 4);
+  REQUIRE(scene.GetStats().linearSolverObjectBuilds == 2);
+  REQUIRE(MaxRelativeDifference(s.Positions(), reference) <= 1e-6);
+}
+
+TEST_CASE("inexact Newton reaches the same answer with fewer CG iterations", "[scene][pcg][adaptive]") {
+  auto const run = [](bool adaptive, std::int64_t& linearIterations, std::int64_t& solves) {
+    SceneParams params;
+    params.linearSolver = LinearSolverType::PetscPcg;
+    params.pcg.preconditioner = PcgPreconditioner::Icc;
+    params.pcg.relativeTolerance = 1e-10;
+    params.pcg.adaptiveTolerance = adaptive;
+    BeamScene s = MakeBeamScene(params);
+    linearIterations = solves = 0;
+    for (int step = 0; step < 20; ++step) {
+      StepOk(*s.scene, kDt);
+      linearIterations += s.scene->GetStats().linearIterations;
+      solves += s.scene->GetStats().linearSolves;
+    }
+    return s.Positions();
+  };
+  std::int64_t exactIterations = 0, exactSolves = 0, inexactIterations = 0, inexactSolves = 0;
+  DynamicArray<Real3> const exact = run(false, exactIterations, exactSolves);
+  DynamicArray<Real3> const inexact = run(true, inexactIterations, inexactSolves);
+  CAPTURE(exactIterations, inexactIterations, exactSolves, inexactSolves);
+  REQUIRE(MaxRelativeDifference(exact, inexact) <= 1e-6);
+  REQUIRE(inexactIterations < exactIterations);
+}
+
+TEST_CASE("bad PCG settings are refused and change nothing", "[scene][pcg][input]") {
+  SceneParams params;
+  params.linearSolver = LinearSolverType::PetscPcg;
+  params.pcg.relativeTolerance = -1;
+  Error error;
+  REQUIRE(Scene::Create(params, error) == nullptr);
+  CAPTURE(error.ToString());
+  REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
+  REQUIRE(Contains(error.GetMessage(), "SceneParams.pcg.relativeTolerance"));
+  REQUIRE(Contains(error.GetMessage(), "-1"));
+
+  BeamScene s = MakeBeamScene(SceneParams{});
+  PcgParams bad;
+  bad.maxIterations = -3;
+  error.Clear();
+  REQUIRE_FALSE(s.scene->SetLinearSolver(LinearSolverType::PetscPcg, bad, error));
+  REQUIRE(Contains(error.GetMessage(), "maxIterations"));
+  REQUIRE(s.scene->GetParams().linearSolver == LinearSolverType::Auto);
+  REQUIRE(s.scene->GetParams().pcg.maxIterations == PcgParams{}.maxIterations);
+  StepOk(*s.scene, kDt);
+  REQUIRE(Contains(s.scene->GetStats().linearSolver, "CHOLMOD"));
+}
+
+TEST_CASE("CHOLMOD with its own ordering gives the same steps as with METIS", "[scene][ordering]") {
+  DynamicArray<Real3> const reference = CholmodReference(10);
+  SceneParams params;
+  params.linearSolver = LinearSolverType::Cholmod;
+  params.ordering = OrderingMethod::SolverDefault;
+  BeamScene s = MakeBeamScene(params);
+  StepOk(*s.scene, kDt, 10);
+  CAPTURE(s.scene->GetStats().linearSolver);
+  REQUIRE(!Contains(s.scene->GetStats().linearSolver, "ordering natural"));
+  REQUIRE(MaxRelativeDifference(s.Positions(), reference) <= 1e-9);
+}
