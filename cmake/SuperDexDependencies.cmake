@@ -22,3 +22,5 @@ pkg_check_modules(PETSC REQUIRED IMPORTED_TARGET PETSc)
 find_package(MPI REQUIRED COMPONENTS C)
 add_library(SuperDex::petsc INTERFACE IMPORTED)
 target_link_libraries(SuperDex::petsc INTERFACE PkgConfig::PETSC MPI::MPI_C)
+# C bindings only: no MPI C++ library to link
+target_compile_definitions(SuperDex::petsc INTERFACE OMPI_SKIP_MPICXX=1 MPICH_SKIP_MPICXX=1)
