@@ -72,10 +72,13 @@ class Actor {
   /// Inertia + gravity (+ internal elastic) energy at the current iterate.
   virtual real Energy() const = 0;
   /// Adds the energy gradient into `gradient` (global, natural order) and the
-  /// PSD Hessian blocks through the assembler, contributors starting at
-  /// `firstContributor`.
+  /// Hessian blocks through the assembler, contributors starting at
+  /// `firstContributor`. With `projectHessian` every block is PSD (element
+  /// Hessians projected); without it elastic element blocks are exact and may
+  /// be indefinite (the stage solver falls back to projection when the
+  /// assembled matrix is not positive definite).
   virtual void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
-                                     int firstContributor) const = 0;
+                                     int firstContributor, bool projectHessian) const = 0;
   /// Saves the current iterate; RestoreIterate returns to it (line search).
   virtual void SaveIterate() = 0;
   virtual void RestoreIterate() = 0;

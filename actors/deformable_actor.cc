@@ -254,7 +254,7 @@ real DeformableActor::Energy() const {
 }
 
 void DeformableActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
-                                            int firstContributor) const {
+                                            int firstContributor, bool projectHessian) const {
   int contributor = firstContributor;
   // inertia and gravity, node by node
   for (int i = 0; i < GetNumNodes(); ++i) {
@@ -266,7 +266,7 @@ void DeformableActor::AddGradientAndHessian(Span<real> gradient, internal::Hessi
   internal::Matrix12 h12;
   for (std::size_t e = 0; e < tetrahedra_.size(); ++e) {
     internal::TetEnergyGradientHessian(material_, lame_, tetRest_[e], Gather<4>(tetrahedra_[e]), g12, h12,
-                                       true);
+                                       projectHessian);
     Scatter<4>(tetrahedra_[e], g12, gradient);
     assembler.AddBlock(contributor++, h12);
   }
@@ -274,7 +274,7 @@ void DeformableActor::AddGradientAndHessian(Span<real> gradient, internal::Hessi
   internal::Matrix9 h9;
   for (std::size_t e = 0; e < triangles_.size(); ++e) {
     internal::MembraneEnergyGradientHessian(lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
-                                            Gather<3>(triangles_[e]), g9, h9, true);
+                                            Gather<3>(triangles_[e]), g9, h9, projectHessian);
     Scatter<3>(triangles_[e], g9, gradient);
     assembler.AddBlock(contributor++, h9);
   }

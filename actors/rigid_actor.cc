@@ -164,7 +164,8 @@ real RigidActor::Energy() const {
 }
 
 void RigidActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
-                                       int firstContributor) const {
+                                       int firstContributor, bool /*projectHessian*/) const {
+  // the rigid inertia block is PSD by construction: nothing to project
   Real3 const phi = StageRotation();
   // dφ/dδθ = J_l⁻¹(φ) Rⁿᵀ
   Real33 const dPhi = LeftJacobianInverse(phi) * stageStartRotation_.conjugate().toRotationMatrix();

@@ -79,7 +79,7 @@ class RigidActor final : public Actor {
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
   real Energy() const override;
   void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
-                             int firstContributor) const override;
+                             int firstContributor, bool projectHessian) const override;
   void SaveIterate() override;
   void RestoreIterate() override;
   void ApplyIncrementFromSaved(Span<real const> delta, real alpha) override;

@@ -95,7 +95,8 @@ inline constexpr int kDenseSolverMaxSize = 96;
 
 enum class LinearSolveStatus {
   Ok,
-  NotPositiveDefinite,  ///< `failingColumn` holds the column where it failed
+  NotPositiveDefinite,  ///< direct backends: `failingColumn` holds the column where it
+                        ///< failed; PCG: negative curvature met (column -1)
   NotConverged,         ///< iterative backends: `reason`, `iterations`, `relativeResidual`
   BackendError,         ///< the external library reported an error: `reason`
   InvalidState,         ///< call out of order, or pattern changed since Analyze

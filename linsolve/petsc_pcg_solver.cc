@@ -409,7 +409,10 @@ LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
     char detail[160];
     std::snprintf(detail, sizeof(detail), " after %d iterations, relative residual %.3g (rtol %.3g)",
                   result.iterations, result.relativeResidual, impl.relativeTolerance);
-    result.status = LinearSolveStatus::NotConverged;
+    // negative curvature met by CG: the matrix (or the preconditioner built
+    // from it) is not positive definite, which Newton answers by projection
+    bool const indefinite = reason == KSP_DIVERGED_INDEFINITE_MAT || reason == KSP_DIVERGED_INDEFINITE_PC;
+    result.status = indefinite ? LinearSolveStatus::NotPositiveDefinite : LinearSolveStatus::NotConverged;
     result.reason = "PETSc CG + " + std::string(ToString(params_.preconditioner)) +
                     " did not converge: KSP_" + KSPConvergedReasons[reason] + detail;
     if (reason == KSP_DIVERGED_PC_FAILED) {

@@ -10,6 +10,16 @@
 
 namespace superdex {
 
+std::string_view ToString(HessianProjection projection) {
+  switch (projection) {
+    case HessianProjection::WhenIndefinite:
+      return "WhenIndefinite";
+    case HessianProjection::Always:
+      return "Always";
+  }
+  return "Unknown";
+}
+
 namespace {
 std::string HandleText(ActorHandle h) {
   return "{index " + std::to_string(h.index) + ", generation " + std::to_string(h.generation) + "}";
@@ -31,6 +41,13 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
   }
   if (!CheckPositive(params.newton.velocityTolerance, "SceneParams.newton.velocityTolerance", error))
     return nullptr;
+  if (params.newton.hessianProjection != HessianProjection::WhenIndefinite &&
+      params.newton.hessianProjection != HessianProjection::Always) {
+    error.Set(ErrorCode::InvalidArgument,
+              "SceneParams.newton.hessianProjection must be a HessianProjection, got the value " +
+                  std::to_string(static_cast<int>(params.newton.hessianProjection)));
+    return nullptr;
+  }
   if (params.newton.maxLineSearchSteps <= 0) {
     error.Set(ErrorCode::InvalidArgument, "SceneParams.newton.maxLineSearchSteps must be > 0, got " +
                                                std::to_string(params.newton.maxLineSearchSteps));
@@ -377,6 +394,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.newtonIterations = 0;
   stats_.linearIterations = 0;
   stats_.linearSolves = 0;
+  stats_.projectionFallbacks = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;
 

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include <superdex/assembly/ordering.h>
 #include <superdex/core/types.h>
@@ -10,6 +11,24 @@
 #include <superdex/scene/integrator.h>
 
 namespace superdex {
+
+/// How Newton treats element Hessians that are not positive semi-definite
+/// (hyperelastic tetrahedra and membranes under compression).
+enum class HessianProjection {
+  /// Exact element Hessians while the assembled matrix is positive definite
+  /// (the inertia term usually makes it so); a Newton iteration whose matrix
+  /// the linear solver reports not positive definite (or whose step is not a
+  /// descent direction) is re-assembled with projected Hessians, and the next
+  /// iteration tries the exact ones again. Near a minimum the exact Hessian is
+  /// positive semi-definite, so Newton ends quadratically.
+  WhenIndefinite,
+  /// Every element Hessian projected to PSD (negative eigenvalues clamped):
+  /// always a descent direction, but only linear convergence where elements
+  /// are compressed (the projection drops curvature the solution needs).
+  Always,
+};
+
+std::string_view ToString(HessianProjection projection);
 
 /// Newton's method on each stage's incremental potential.
 struct NewtonParams {
@@ -19,6 +38,7 @@ struct NewtonParams {
   /// rotations]. > 0.
   real velocityTolerance = 1e-6;
   int maxLineSearchSteps = 40;   ///< backtracking halvings before failure, > 0
+  HessianProjection hessianProjection = HessianProjection::WhenIndefinite;
 };
 
 struct SceneParams {
@@ -42,6 +62,7 @@ struct SceneStats {
   // last step
   int newtonIterations = 0;
   int linearIterations = 0;        ///< iterative solvers; 0 for direct ones
+  int projectionFallbacks = 0;     ///< Newton iterations re-assembled with projected Hessians
   int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
                                    ///< inexact-Newton re-solves)
   real gradientNorm = 0;           ///< ‖∇E‖∞ at the last Newton iteration

@@ -175,34 +175,49 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
   for (int iteration = 1; iteration <= newton.maxIterations; ++iteration) {
     ++stats.newtonIterations;
 
-    // assemble gradient and PSD Hessian into the cached pattern
-    auto start = Clock::now();
-    gradient_.setZero();
-    assembler_.ZeroValues();
-    for (std::size_t a = 0; a < actors.size(); ++a)
-      actors[a]->AddGradientAndHessian(gradient, assembler_, firstContributor_[a]);
-    for (std::size_t c = 0; c < constraints.size(); ++c)
-      constraints[c]->AddGradientAndHessian(h, gradient, assembler_,
-                                            firstContributor_[numConstraintsStart + c],
-                                            constraintWorkspace_);
-    stats.assemblySeconds += SecondsSince(start);
-    stats.gradientNorm = gradient_.lpNorm<Eigen::Infinity>();
-    if (!std::isfinite(stats.gradientNorm)) {
-      error.Set(ErrorCode::NonFiniteState, Where(stageIndex, iteration) + ": the gradient is not finite");
-      return false;
-    }
-
-    // solve H δ = −∇E in the fill-reducing order (iterative solvers: to the
-    // inexact-Newton forcing term when adaptive)
-    start = Clock::now();
-    LinearSolveResult result = solver_->Factorize(assembler_.GetMatrix());
-    stats.factorizationSeconds += SecondsSince(start);
+    // assemble gradient and Hessian into the cached pattern and solve
+    // H δ = −∇E in the fill-reducing order (iterative solvers: to the
+    // inexact-Newton forcing term when adaptive). With exact element
+    // Hessians, a matrix that is not positive definite, or a step that is
+    // not a descent direction, sends this iteration once more through
+    // assembly with projected Hessians; the next iteration tries the exact
+    // ones again (at a minimum the exact Hessian is positive semi-definite,
+    // so near convergence they are usable and Newton is quadratic again).
+    LinearSolveResult result;
     real forcingTerm = pcg_.relativeTolerance;
-    if (inexact) {
-      forcingTerm = ForcingTerm(iteration, gradient_.norm());
-      solver_->SetRelativeTolerance(forcingTerm);
+    bool project = newton.hessianProjection == HessianProjection::Always;
+    for (;;) {
+      auto start = Clock::now();
+      gradient_.setZero();
+      assembler_.ZeroValues();
+      for (std::size_t a = 0; a < actors.size(); ++a)
+        actors[a]->AddGradientAndHessian(gradient, assembler_, firstContributor_[a], project);
+      for (std::size_t c = 0; c < constraints.size(); ++c)
+        constraints[c]->AddGradientAndHessian(h, gradient, assembler_,
+                                              firstContributor_[numConstraintsStart + c],
+                                              constraintWorkspace_);
+      stats.assemblySeconds += SecondsSince(start);
+      stats.gradientNorm = gradient_.lpNorm<Eigen::Infinity>();
+      if (!std::isfinite(stats.gradientNorm)) {
+        error.Set(ErrorCode::NonFiniteState,
+                  Where(stageIndex, iteration) + ": the gradient is not finite");
+        return false;
+      }
+
+      start = Clock::now();
+      result = solver_->Factorize(assembler_.GetMatrix());
+      stats.factorizationSeconds += SecondsSince(start);
+      if (inexact) {
+        forcingTerm = ForcingTerm(iteration, gradient_.norm());
+        solver_->SetRelativeTolerance(forcingTerm);
+      }
+      if (result.Ok()) result = SolveNewtonSystem(stats);
+      bool const notDescent = result.Ok() && !(gradient_.dot(delta_) < 0);
+      if (project || (result.status != LinearSolveStatus::NotPositiveDefinite && !notDescent))
+        break;
+      project = true;
+      ++stats.projectionFallbacks;
     }
-    if (result.Ok()) result = SolveNewtonSystem(stats);
     if (fault_.failLinearSolveAtIteration == iteration && result.Ok()) {
       result.status = LinearSolveStatus::BackendError;
       result.reason = "failure injected by a test";
@@ -243,7 +258,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     // Larger steps get a backtracking line search on Eᵢ (Armijo, c = 1e-4,
     // with a round-off allowance of 1e-12 |E|).
     bool const converged = stepNorm <= newton.velocityTolerance;
-    start = Clock::now();
+    auto const start = Clock::now();
     for (Actor* actor : actors) actor->SaveIterate();
     Span<real const> const delta(delta_.data(), delta_.size());
     if (converged) {

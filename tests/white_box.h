@@ -56,8 +56,8 @@ struct ActorTestAccess {
   }
   static real Energy(Actor const& a) { return a.Energy(); }
   static void AddGradientAndHessian(Actor const& a, Span<real> gradient, HessianAssembler& assembler,
-                                    int firstContributor) {
-    a.AddGradientAndHessian(gradient, assembler, firstContributor);
+                                    int firstContributor, bool projectHessian = true) {
+    a.AddGradientAndHessian(gradient, assembler, firstContributor, projectHessian);
   }
   static void AppendContributorDofs(Actor const& a, DynamicArray<DynamicArray<int>>& dofLists) {
     a.AppendContributorDofs(dofLists);

@@ -66,7 +66,8 @@ TEST_CASE("PCG reports non-convergence with PETSc's reason", "[linsolve][pcg]") 
     LinearSolveResult result = solver->Factorize(indefinite);
     if (result.Ok()) result = solver->Solve(View(b), View(x));
     CAPTURE(result.reason);
-    REQUIRE(result.status == LinearSolveStatus::NotConverged);
+    REQUIRE(result.status == LinearSolveStatus::NotPositiveDefinite);
+    REQUIRE(result.failingColumn == -1);  // CG cannot say where
     REQUIRE(Contains(result.reason, "KSP_DIVERGED_INDEFINITE"));
   }
 }
