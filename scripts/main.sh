@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The main job: install dependencies, build SuperDex (Release) into build/,
-# run the double-pendulum example and plot it. Results: results/double_pendulum/.
+# run the perf harness's quick suite (scene families × sizes × solvers ×
+# time steps × integrators) and draw its charts and summary table.
+# Results: results/perf/ (results.csv, results.json, *.png, summary.md).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -8,10 +10,12 @@ bash scripts/setup.sh
 source scripts/env.sh
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
-# the main job needs the library and its example only
-cmake --build build -j"$(nproc)" --target superdex_double_pendulum
+# the main job needs the library and the harness only
+cmake --build build -j"$(nproc)" --target superdex_perf
 
-mkdir -p results/double_pendulum
-build/examples/double_pendulum/superdex_double_pendulum --out results/double_pendulum
-/usr/bin/python3 examples/double_pendulum/plot.py results/double_pendulum
-echo "main.sh: results in results/double_pendulum/"
+rm -rf results/perf
+status=0
+build/perf/harness/superdex_perf --suite quick --out results/perf || status=$?
+/usr/bin/python3 perf/harness/plot.py results/perf
+echo "main.sh: results in results/perf/ (summary.md, charts *.png)"
+exit "${status}"

@@ -1,0 +1,51 @@
+// Scene families of the perf harness. Each family builds a Scene from a size
+// label, a stiffness ratio (multiplying its base stiffness) and the scene
+// parameters (solver, integrator, Newton settings), and exposes the points
+// the error metric tracks and the scene length L that normalizes it.
+//
+//   cantilever  tetrahedral beam 1 × 0.2 × 0.2 m, size "NXxNYxNZ" (cells)
+//   cloth       pinned shell sheet 1 × 1 m, size "NxN" (quads)
+//   chain       rigid boxes joined by spherical joints, size "N=50" (bodies)
+//
+// The parameters of each family are documented in families.cc and in
+// perf/harness/README.md.
+#pragma once
+
+#include <superdex/superdex.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace superdex::perf {
+
+/// A built scene and what the error metric needs of it.
+struct FamilyScene {
+  std::unique_ptr<Scene> scene;
+  real length = 1;  ///< scene length L [m]
+  /// World positions of the tracked points (nodes or body centres), in a
+  /// fixed order.
+  std::function<DynamicArray<Real3>()> trackedPositions;
+};
+
+/// The family names, in display order.
+std::vector<std::string_view> const& FamilyNames();
+
+/// DoFs of `family` at `size`, or -1 (and `message`) for an unknown family
+/// or a malformed size label. Computed from the label, without a scene.
+int CountDofs(std::string const& family, std::string const& size, std::string& message);
+
+/// The material label of the CSV ("E=1e5", "k=1e6").
+std::string MaterialLabel(std::string const& family, double stiffnessRatio);
+
+/// The family's Newton iteration cap (cloth needs more: its compressed
+/// membrane is non-convex, see examples/cloth).
+int DefaultNewtonMaxIterations(std::string const& family);
+
+/// Builds the scene; false and `error` on failure (`params` as given).
+bool BuildFamilyScene(std::string const& family, std::string const& size, double stiffnessRatio,
+                      SceneParams const& params, FamilyScene& out, Error& error);
+
+}  // namespace superdex::perf

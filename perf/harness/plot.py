@@ -1,0 +1,502 @@
+#!/usr/bin/env python3
+"""Charts and summary of the perf harness.
+
+Usage:  /usr/bin/python3 perf/harness/plot.py OUT_DIR
+
+Input:  OUT_DIR/results.csv, written by the harness, one row per run (header
+        row, comma separated, quoted where a cell holds a comma; an empty cell
+        means "not applicable / unknown").  All columns of COLUMNS must be
+        present; extra columns are ignored.  Needs only numpy and matplotlib.
+
+Output (into OUT_DIR; the list of files written is printed):
+  work_precision_<family>.png  study == work_precision: error (log) against
+        wall time per step (log), one line per (method, integrator), points
+        sorted by time and labelled with dt; failed runs are left out of the
+        lines and counted in the legend as "(k failed)".
+  scaling.png  study == scaling, ok rows: wall time per step against dofs
+        (log-log), one panel per family, one line per method, with the least
+        squares slope of log t over log n in the legend.
+  stability_<family>.png  study == stability: one panel per method, a grid of
+        dt (x) by stiffness ratio (y); green "ok" cells with Newton its/step,
+        red (orange for timeout/crash) cells with a short failure reason, grey
+        where nothing ran.
+  phases.png  for each family the largest size of the scaling study: stacked
+        horizontal bars per method of the time per step split into phases,
+        total annotated.
+  summary.md  tables of every study, the reference runs and the failures.
+A chart whose study has no rows is skipped with a printed line.  Exit status:
+0 on success, 1 when results.csv is missing or lacks a column or a chart failed.
+"""
+import csv
+import math
+import os
+import sys
+import traceback
+from collections import defaultdict
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
+
+COLUMNS = (
+    "suite study family size dofs material stiffness_ratio method solver "
+    "preconditioner rtol newton_tol integrator dt steps end_time "
+    "newton_iterations linear_iterations linear_solves pattern_builds "
+    "symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops "
+    "analysis_s assembly_s factorization_s solve_s line_search_s other_s "
+    "wall_per_step_s total_s peak_rss_mb error reference status reason").split()
+# (column, legend label, colour) of the per-step phase bars.
+PHASES = [("analysis_s", "analysis", "#9e9ac8"),
+          ("assembly_s", "assembly", "#6baed6"),
+          ("factorization_s", "factorization / PC set-up", "#fd8d3c"),
+          ("solve_s", "solve", "#74c476"),
+          ("line_search_s", "line search", "#f768a1"),
+          ("other_s", "other", "#bdbdbd")]
+MARKERS = "osD^vP*Xh<>p"
+LINESTYLE = {"be": "-", "bdf2": "--"}
+OK_C, FAIL_C, SOFT_C, NONE_C = "#7fc97f", "#ef6f6c", "#fdb863", "#e0e0e0"
+DASH = "–"
+
+
+# ---------------------------------------------------------------- reading ----
+def read_rows(path):
+    """Rows of the CSV as dicts of stripped strings; exits on a missing column."""
+    with open(path, newline="", encoding="utf-8-sig") as f:
+        reader = csv.DictReader(f)
+        header = [h.strip() for h in (reader.fieldnames or [])]
+        missing = [c for c in COLUMNS if c not in header]
+        if missing:
+            sys.exit(f"plot.py: error: {path} lacks column(s): {', '.join(missing)}")
+        reader.fieldnames = header
+        return [{k: (v or "").strip() for k, v in r.items() if k is not None}
+                for r in reader]
+
+
+def num(row, key):
+    """The cell as a finite float, or None (empty, text, nan, inf)."""
+    try:
+        x = float(row.get(key, ""))
+    except ValueError:
+        return None
+    return x if math.isfinite(x) else None
+
+
+def pos(x):
+    return x is not None and x > 0
+
+
+def is_ok(row):
+    return row["status"].lower() == "ok"
+
+
+def steps(row):
+    """Number of steps; falls back to end_time / dt when the cell is empty."""
+    s, t, dt = num(row, "steps"), num(row, "end_time"), num(row, "dt")
+    if pos(s):
+        return s
+    return max(1.0, round(t / dt)) if pos(t) and pos(dt) else None
+
+
+def per_step(row, key):
+    v, s = num(row, key), steps(row)
+    return v / s if v is not None and s else None
+
+
+def wall(row):
+    """Wall time per step [s], from total_s / steps when the cell is empty."""
+    w = num(row, "wall_per_step_s")
+    return w if w is not None else per_step(row, "total_s")
+
+
+def ratio(row):
+    """Stiffness ratio; an empty cell means the base material (1)."""
+    return num(row, "stiffness_ratio") or 1.0
+
+
+def group(rows, key):
+    """Rows grouped by key(row), groups in order of first appearance."""
+    out = {}
+    for r in rows:
+        out.setdefault(key(r), []).append(r)
+    return out
+
+
+def sizes_of(rows):
+    """Size labels sorted by dofs, e.g. "40x8x8, 80x16x16"."""
+    d = {}
+    for r in rows:
+        d.setdefault(r["size"], num(r, "dofs") or 0)
+    return ", ".join(s for s in sorted(d, key=lambda s: d[s]) if s) or "?"
+
+
+def run_label(method, integ, multi):
+    return f"{method} {integ}" if multi and integ else method
+
+
+# ------------------------------------------------------------- formatting ----
+def fmt(x, digits=3):
+    return DASH if x is None else f"{x:.{digits}g}"
+
+
+def fmt_time(s):
+    """Seconds as "12.3 ms" below one second, else "4.56 s"."""
+    return DASH if s is None else f"{s * 1e3:.3g} ms" if abs(s) < 1 else f"{s:.3g} s"
+
+
+def fmt_count(x):
+    if x is None:
+        return DASH
+    for div, suffix in ((1e9, "G"), (1e6, "M"), (1e3, "k")):
+        if abs(x) >= div:
+            return f"{x / div:.3g}{suffix}"
+    return f"{x:.0f}"
+
+
+def dt_label(dt):
+    """dt as "1/60" when 1/dt is a whole number, otherwise 3 digits."""
+    if not pos(dt):
+        return DASH
+    inv = 1.0 / dt
+    if abs(inv - round(inv)) < 1e-6 * inv:
+        return "1" if round(inv) == 1 else f"1/{round(inv)}"
+    return f"{dt:.3g}"
+
+
+def short_reason(reason):
+    """Failure reason in a few characters: "DIVERGED_ITS", "Newton", ..."""
+    low = reason.lower()
+    if low.startswith("newton"):
+        return "Newton"
+    for needle, short in (("timeout", "timeout"), ("crash", "crashed"),
+                          ("nonfinite", "non-finite"), ("non-finite", "non-finite")):
+        if needle in low:
+            return short
+    tail = reason.split(":")[-1].strip() or reason.strip() or "failed"
+    for prefix in ("KSP_", "PC_", "SNES_"):
+        tail = tail[len(prefix):] if tail.startswith(prefix) else tail
+    return tail[:14]
+
+
+def save(fig, out, name, written):
+    fig.savefig(os.path.join(out, name), dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    written.append(name)
+
+
+def panel_grid(n, w, h):
+    ncols = 2 if n == 4 else min(n, 3)
+    nrows = math.ceil(n / ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(w * ncols, h * nrows),
+                             squeeze=False)
+    for ax in axes.flat[n:]:
+        ax.axis("off")
+    return fig, list(axes.flat[:n])
+
+
+def log_axes(ax, plotted, title, xlabel, ylabel, legend_loc):
+    """Log-log axes (a note instead when nothing was plotted), labels, grid."""
+    if plotted:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+    else:
+        ax.text(0.5, 0.5, "no successful runs", ha="center", va="center",
+                transform=ax.transAxes)
+        ax.set(xticks=[], yticks=[])
+    ax.set(title=title, xlabel=xlabel, ylabel=ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7.5, loc=legend_loc)
+
+
+# ----------------------------------------------------------------- charts ----
+def chart_work_precision(wp, out, style, written):
+    if not wp:
+        print("skip work_precision_*.png: no work_precision rows")
+        return
+    for fam, fr in group(wp, lambda r: r["family"]).items():
+        fig, ax = plt.subplots(figsize=(8.5, 6))
+        plotted = False
+        for (method, integ), g in group(fr, lambda r: (r["method"], r["integrator"])).items():
+            pts = sorted(((wall(r), num(r, "error"), num(r, "dt")) for r in g
+                          if is_ok(r) and pos(wall(r)) and pos(num(r, "error"))),
+                         key=lambda p: p[0])
+            nfail = sum(not is_ok(r) for r in g)
+            label = f"{method} {integ}".strip() + (f" ({nfail} failed)" if nfail else "")
+            color, marker = style(method)
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], LINESTYLE.get(integ, ":"), marker=marker, color=color,
+                    label=label, ms=6, lw=1.6)
+            plotted = plotted or bool(pts)
+            if len(fr) <= 60:  # dt labels only while they stay readable
+                for x, y, dt in pts:
+                    ax.annotate(dt_label(dt), (x, y), textcoords="offset points",
+                                xytext=(4, 3), fontsize=6.5, color=color)
+        log_axes(ax, plotted, f"Work–precision: {fam} ({sizes_of(fr)}); point labels = dt [s]",
+                 "wall time per step [s]", "error: RMS node position / scene length [-]", "best")
+        save(fig, out, f"work_precision_{fam}.png", written)
+
+
+def chart_scaling(sc, out, style, written):
+    if not sc:
+        print("skip scaling.png: no scaling rows")
+        return
+    fams = group(sc, lambda r: r["family"])
+    fig, axes = panel_grid(len(fams), 6.5, 5)
+    for ax, (fam, fr) in zip(axes, fams.items()):
+        multi = len({r["integrator"] for r in fr}) > 1
+        plotted = False
+        for (method, integ), g in group(fr, lambda r: (r["method"], r["integrator"] if multi else "")).items():
+            by_n = defaultdict(list)  # repeated runs of one size: median
+            for r in g:
+                if is_ok(r) and pos(num(r, "dofs")) and pos(wall(r)):
+                    by_n[num(r, "dofs")].append(wall(r))
+            ns = sorted(by_n)
+            ts = [float(np.median(by_n[n])) for n in ns]
+            label = run_label(method, integ, multi)
+            if len(ns) >= 2:
+                slope = np.polyfit(np.log(ns), np.log(ts), 1)[0]
+                label += f" (slope {slope:.2f})"
+            nfail = sum(not is_ok(r) for r in g)
+            label += f" ({nfail} failed)" if nfail else ""
+            color, marker = style(method)
+            ax.plot(ns, ts, LINESTYLE.get(integ, "-"), marker=marker, color=color, label=label)
+            plotted = plotted or bool(ns)
+        log_axes(ax, plotted, f"{fam} ({sizes_of(fr)})", "degrees of freedom",
+                 "wall time per step [s]", "upper left")
+    fig.suptitle("Scaling: wall time per step vs problem size (slope of log t / log n)")
+    fig.tight_layout()
+    save(fig, out, "scaling.png", written)
+
+
+def stability_cells(g, dts, ratios):
+    """{(i, j): row} for a panel; a failed run wins over an ok one in a cell."""
+    cells = {}
+    for r in g:
+        dt = num(r, "dt")
+        if dt not in dts:
+            continue
+        key = (ratios.index(ratio(r)), dts.index(dt))
+        if key not in cells or is_ok(cells[key]):
+            cells[key] = r
+    return cells
+
+
+def chart_stability(st, out, written):
+    if not st:
+        print("skip stability_*.png: no stability rows")
+        return
+    for fam, fr in group(st, lambda r: r["family"]).items():
+        multi = len({r["integrator"] for r in fr}) > 1
+        panels = group(fr, lambda r: run_label(r["method"], r["integrator"], multi))
+        dts = sorted({num(r, "dt") for r in fr if num(r, "dt") is not None})
+        ratios = sorted({ratio(r) for r in fr})
+        fig, axes = panel_grid(len(panels), max(3.8, 1.0 * len(dts) + 1.8),
+                               max(2.8, 0.65 * len(ratios) + 1.6))
+        for ax, (label, g) in zip(axes, panels.items()):
+            img = np.full((len(ratios), max(1, len(dts)), 3), matplotlib.colors.to_rgb(NONE_C))
+            for (i, j), r in stability_cells(g, dts, ratios).items():
+                if is_ok(r):
+                    its = per_step(r, "newton_iterations")
+                    text, c = "ok" + (f"\n{its:.1f} it" if its is not None else ""), OK_C
+                else:
+                    text = short_reason(r["reason"])  # timeout / crash: orange
+                    c = SOFT_C if text in ("timeout", "crashed") else FAIL_C
+                img[i, j] = matplotlib.colors.to_rgb(c)
+                ax.text(j, i, text, ha="center", va="center", fontsize=7)
+            ax.imshow(img, origin="lower", aspect="auto")
+            ax.set_xticks(range(len(dts)), [dt_label(d) for d in dts])
+            ax.set_yticks(range(len(ratios)), [f"{k:g}" for k in ratios])
+            ax.set_xticks(np.arange(-0.5, len(dts)), minor=True)
+            ax.set_yticks(np.arange(-0.5, len(ratios)), minor=True)
+            ax.grid(which="minor", color="white", lw=2)
+            ax.tick_params(which="minor", length=0)
+            ax.set_xlabel("time step dt [s]")
+            ax.set_ylabel("stiffness ratio")
+            ax.set_title(label, fontsize=10)
+        fig.suptitle(f"Stability: {fam} ({sizes_of(fr)})")
+        fig.legend(handles=[Patch(color=OK_C, label="ok (Newton its/step)"),
+                            Patch(color=FAIL_C, label="failed"),
+                            Patch(color=SOFT_C, label="timeout / crashed"),
+                            Patch(color=NONE_C, label="not run")],
+                   loc="lower center", ncol=4, fontsize=8, bbox_to_anchor=(0.5, -0.02))
+        fig.tight_layout(rect=(0, 0.05, 1, 1))
+        save(fig, out, f"stability_{fam}.png", written)
+
+
+def phase_panels(sc):
+    """[(family, size, [(label, [phase s/step], wall s/step, ok)])]: per family
+    the largest size of the scaling study, one bar per method (ok run first)."""
+    panels = []
+    for fam, fr in group(sc, lambda r: r["family"]).items():
+        fr = [r for r in fr if num(r, "dofs") is not None and steps(r)]
+        if not fr:
+            continue
+        big = max(num(r, "dofs") for r in fr)
+        fr = [r for r in fr if num(r, "dofs") == big]
+        multi = len({r["integrator"] for r in fr}) > 1
+        bars = []
+        for label, g in group(fr, lambda r: run_label(r["method"], r["integrator"], multi)).items():
+            r = sorted(g, key=lambda r: not is_ok(r))[0]
+            parts = [per_step(r, col) or 0.0 for col, _, _ in PHASES]
+            bars.append((label, parts, wall(r), is_ok(r)))
+        panels.append((fam, fr[0]["size"] or f"{big:.0f} dofs", bars))
+    return panels
+
+
+def chart_phases(sc, out, written):
+    panels = phase_panels(sc)
+    if not panels:
+        print("skip phases.png: no scaling rows with dofs and steps")
+        return
+    heights = [0.45 * len(b) + 1.4 for _, _, b in panels]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(10, sum(heights) + 0.8),
+                             squeeze=False, gridspec_kw={"height_ratios": heights})
+    for ax, (fam, size, bars) in zip(axes[:, 0], panels):
+        top = max([sum(p) for _, p, _, _ in bars] + [w or 0 for _, _, w, _ in bars])
+        scale, unit = (1e3, "ms") if top < 1 else (1.0, "s")
+        y = np.arange(len(bars))
+        left = np.zeros(len(bars))
+        for k, (_, name, color) in enumerate(PHASES):
+            widths = np.array([p[k] for _, p, _, _ in bars]) * scale
+            ax.barh(y, widths, left=left, color=color, label=name, height=0.65)
+            left += widths
+        for yi, (_, parts, w, ok) in zip(y, bars):
+            total = w if w is not None else (sum(parts) or None)
+            ax.text(max(left[yi], (total or 0) * scale) + top * scale * 0.01, yi,
+                    (fmt_time(total) if total else "no timing") + ("" if ok else " [failed]"),
+                    va="center", fontsize=8)
+        ax.set_yticks(y, [b[0] for b in bars])
+        ax.invert_yaxis()
+        ax.set_xlim(0, top * scale * 1.22 if top > 0 else 1)
+        ax.set_xlabel(f"time per step [{unit}]")
+        ax.set_title(f"{fam} ({size}): time per step by phase", fontsize=10)
+        ax.grid(True, axis="x", alpha=0.3)
+    axes[0, 0].legend(fontsize=8, ncol=3, loc="lower left", bbox_to_anchor=(0, 1.12))
+    fig.tight_layout()
+    save(fig, out, "phases.png", written)
+
+
+# ---------------------------------------------------------------- summary ----
+def table(header, body):
+    esc = lambda c: str(c).replace("|", "\\|") or DASH  # noqa: E731
+    return (["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+            + ["| " + " | ".join(esc(c) for c in r) + " |" for r in body] + [""])
+
+
+def status_text(r):
+    return "ok" if is_ok(r) else f"{r['status'] or '?'}: {r['reason']}".rstrip(": ")
+
+
+def scaling_row(r):
+    its, lin = per_step(r, "newton_iterations"), per_step(r, "linear_iterations")
+    flops, fact, newton = num(r, "factor_flops"), num(r, "factorization_s"), num(r, "newton_iterations")
+    gflops = (flops * newton / fact / 1e9 if r["method"].split("-")[0] == "cholmod"
+              and flops is not None and newton is not None and pos(fact) else None)
+    asm, w, s = num(r, "assembly_s"), wall(r), steps(r)
+    share = 100 * asm / (w * s) if asm is not None and pos(w) and s else None
+    return [r["size"], fmt_count(num(r, "dofs")), r["method"], r["integrator"],
+            fmt_time(w), fmt(its), fmt(lin), fmt_count(num(r, "nnz_l")),
+            fmt(num(r, "peak_rss_mb")), fmt(gflops),
+            DASH if share is None else f"{share:.3g} %", status_text(r)]
+
+
+def summary(rows, out, written):
+    ok = sum(map(is_ok, rows))
+    suites = sorted({r["suite"] for r in rows if r["suite"]}) or ["(unnamed)"]
+    studies = group(rows, lambda r: r["study"])
+    L = [f"# Perf results: {', '.join(suites)}", "",
+         f"{len(rows)} rows ({ok} ok, {len(rows) - ok} failed); studies: "
+         + (", ".join(f"{k or '?'} {len(v)}" for k, v in studies.items()) or "none"), ""]
+    L += [f"![{f}]({f})" for f in written if f.endswith(".png")] + [""]
+    if studies.get("scaling"):
+        L += ["## Scaling", ""]
+        for fam, fr in group(studies["scaling"], lambda r: r["family"]).items():
+            fr = sorted(fr, key=lambda r: (num(r, "dofs") or 0, r["method"]))
+            L += [f"### {fam}", ""] + table(
+                ["size", "dofs", "method", "integrator", "time/step", "Newton its/step",
+                 "linear its/step", "nnz(L)", "peak MB", "factor GFLOP/s",
+                 "assembly share", "status"], [scaling_row(r) for r in fr])
+    if studies.get("work_precision"):
+        L += ["## Work–precision", ""]
+        for fam, fr in group(studies["work_precision"], lambda r: r["family"]).items():
+            fr = sorted(fr, key=lambda r: (r["method"], r["integrator"], -(num(r, "dt") or 0)))
+            L += [f"### {fam} ({sizes_of(fr)})", ""] + table(
+                ["method", "integrator", "dt", "rtol", "Newton tol", "error", "time/step", "status"],
+                [[r["method"], r["integrator"], dt_label(num(r, "dt")), r["rtol"],
+                  r["newton_tol"], fmt(num(r, "error")), fmt_time(wall(r)), status_text(r)]
+                 for r in fr])
+    if studies.get("stability"):
+        L += ["## Stability", "", "Cells: `ok` with Newton its/step, the failure reason, or – (not run).", ""]
+        for fam, fr in group(studies["stability"], lambda r: r["family"]).items():
+            multi = len({r["integrator"] for r in fr}) > 1
+            dts = sorted({num(r, "dt") for r in fr if num(r, "dt") is not None})
+            ratios = sorted({ratio(r) for r in fr})
+            for label, g in group(fr, lambda r: run_label(r["method"], r["integrator"], multi)).items():
+                cells = stability_cells(g, dts, ratios)
+                body = []
+                for i, k in enumerate(ratios):
+                    line = [f"{k:g}"]
+                    for j in range(len(dts)):
+                        r = cells.get((i, j))
+                        its = per_step(r, "newton_iterations") if r else None
+                        line.append("" if r is None else "**" + short_reason(r["reason"]) + "**"
+                                    if not is_ok(r) else "ok" if its is None else f"ok {its:.2g}")
+                    body.append(line)
+                L += [f"### {fam} ({sizes_of(g)}), {label}", ""] + table(
+                    ["stiffness \\ dt"] + [dt_label(d) for d in dts], body)
+    for name, title in (("bullet", "Bullet comparisons"), ("reference", "Reference runs")):
+        if studies.get(name):
+            L += [f"## {title}", ""] + table(
+                ["family", "size", "dofs", "method", "integrator", "dt", "steps", "time/step",
+                 "total", "error", "status"],
+                [[r["family"], r["size"], fmt_count(num(r, "dofs")), r["method"], r["integrator"],
+                  dt_label(num(r, "dt")), fmt_count(steps(r)), fmt_time(wall(r)),
+                  fmt_time(num(r, "total_s")), fmt(num(r, "error")), status_text(r)]
+                 for r in studies[name]])
+    failed = [r for r in rows if not is_ok(r)]
+    L += ["## Failed runs", ""] + ([
+        "- " + " ".join(x for x in (r["study"], "/", r["family"], r["size"], "/", r["method"],
+                                    r["integrator"]) if x)
+        + (f" dt={dt_label(num(r, 'dt'))}" if pos(num(r, "dt")) else "")
+        + (f" stiffness={r['stiffness_ratio']}" if r["stiffness_ratio"] else "")
+        + f": {r['reason'] or r['status'] or '?'}" for r in failed] or ["none"]) + [""]
+    with open(os.path.join(out, "summary.md"), "w", encoding="utf-8") as f:
+        f.write("\n".join(L))
+    written.append("summary.md")
+
+
+# ------------------------------------------------------------------- main ----
+def main(argv):
+    if len(argv) != 2:
+        sys.exit("usage: plot.py OUT_DIR   (reads OUT_DIR/results.csv)")
+    out = argv[1]
+    path = os.path.join(out, "results.csv")
+    if not os.path.isfile(path):
+        sys.exit(f"plot.py: error: {path} not found")
+    rows = read_rows(path)
+    # One colour and marker per method, the same in every chart.
+    methods = sorted({r["method"] for r in rows})
+    cmap = plt.get_cmap("tab10" if len(methods) <= 10 else "tab20")
+    styles = {m: (cmap(i % cmap.N), MARKERS[i % len(MARKERS)]) for i, m in enumerate(methods)}
+    studies = group(rows, lambda r: r["study"])
+    wp, sc, st = (studies.get(k, []) for k in ("work_precision", "scaling", "stability"))
+    written, broken = [], []
+    charts = [lambda: chart_work_precision(wp, out, styles.get, written),
+              lambda: chart_scaling(sc, out, styles.get, written),
+              lambda: chart_stability(st, out, written),
+              lambda: chart_phases(sc, out, written)]
+    for name, chart in zip(("work_precision", "scaling", "stability", "phases"), charts):
+        try:
+            chart()
+        except Exception:  # one broken chart must not stop the others
+            traceback.print_exc()
+            broken.append(name)
+            plt.close("all")
+    summary(rows, out, written)
+    print("wrote:\n" + "\n".join("  " + os.path.join(out, f) for f in written))
+    if broken:
+        sys.exit(f"plot.py: error: chart(s) failed: {', '.join(broken)}")
+
+
+if __name__ == "__main__":
+    main(sys.argv)

@@ -1,0 +1,526 @@
+// One run of the perf harness (run.h): spec options, methods, result rows,
+// and the in-process execution.
+#include "run.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+
+#include "families.h"
+
+namespace superdex::perf {
+
+// ------------------------------------------------------------------ spec
+
+std::vector<SpecOption> const& SpecOptions() {
+  static std::vector<SpecOption> const options{
+      {"--suite", "NAME", "suite label of the row (default run)", &RunSpec::suite},
+      {"--study", "NAME", "scaling, work_precision, stability, bullet, reference", &RunSpec::study},
+      {"--family", "NAME", "cantilever, cloth, chain (default cantilever)", &RunSpec::family},
+      {"--size", "LABEL", "40x8x8 (cantilever), 32x32 (cloth), N=50 (chain)", &RunSpec::size},
+      {"--stiffness-ratio", "R", "times the base stiffness (default 1)", &RunSpec::stiffnessRatio},
+      {"--method", "LABEL", "solver configuration, below (default cholmod)", &RunSpec::method},
+      {"--integrator", "be|bdf2", "time integrator (default be)", &RunSpec::integrator},
+      {"--dt", "DT", "time step, 1/N or seconds (default 1/60)", &RunSpec::dt},
+      {"--steps", "N", "steps to take (default 3)", &RunSpec::steps},
+      {"--end-time", "T", "> 0: round(T/dt) steps instead of --steps", &RunSpec::endTime},
+      {"--rtol", "R", "PCG relative tolerance (default 1e-8)", &RunSpec::rtol},
+      {"--newton-tol", "V", "Newton velocity tolerance, m/s (default 1e-6)", &RunSpec::newtonTol},
+      {"--newton-max-it", "N", "Newton cap, 0: the family's", &RunSpec::newtonMaxIterations},
+      {"--pcg-max-it", "N", "PCG iteration cap (default 10000)", &RunSpec::pcgMaxIterations},
+      {"--reference-out", "FILE", "write the final tracked positions", &RunSpec::referenceOut},
+      {"--reference-in", "FILE", "error against the positions in FILE", &RunSpec::referenceIn},
+      {"--reference-desc", "TEXT", "reference column for --reference-in", &RunSpec::referenceDesc},
+  };
+  return options;
+}
+
+int PlannedSteps(RunSpec const& spec) {
+  double dt = 0;
+  if (!ParseDt(spec.dt, dt)) return 0;
+  return spec.endTime > 0 ? static_cast<int>(std::llround(spec.endTime / dt)) : spec.steps;
+}
+
+std::vector<std::string> SpecToArgs(RunSpec const& spec) {
+  std::vector<std::string> args;
+  for (SpecOption const& option : SpecOptions()) {
+    args.emplace_back(option.name);
+    std::visit(
+        [&](auto member) {
+          auto const& value = spec.*member;
+          if constexpr (std::is_same_v<std::decay_t<decltype(value)>, std::string>)
+            args.push_back(value);
+          else
+            args.push_back(Cell(value, 17));
+        },
+        option.field);
+  }
+  return args;
+}
+
+namespace {
+
+/// Sets the field of `option` from `text`; false if it is not a number of the
+/// field's type.
+bool SetField(SpecOption const& option, std::string const& text, RunSpec& spec) {
+  return std::visit(
+      [&](auto member) {
+        auto& value = spec.*member;
+        using T = std::decay_t<decltype(value)>;
+        char* end = nullptr;
+        if constexpr (std::is_same_v<T, std::string>) {
+          value = text;
+          return true;
+        } else if constexpr (std::is_same_v<T, double>) {
+          value = std::strtod(text.c_str(), &end);
+        } else {
+          long const v = std::strtol(text.c_str(), &end, 10);
+          if (v < INT32_MIN || v > INT32_MAX) return false;
+          value = static_cast<int>(v);
+        }
+        return !text.empty() && *end == '\0';
+      },
+      option.field);
+}
+
+bool IsOneOf(std::string const& value, std::initializer_list<std::string_view> allowed) {
+  return std::find(allowed.begin(), allowed.end(), value) != allowed.end();
+}
+
+/// Checks `spec` and resolves --end-time into steps.
+bool ValidateSpec(RunSpec& spec, std::string& message) {
+  double dt = 0;
+  Method method;
+  if (!IsOneOf(spec.integrator, {"be", "bdf2"}))
+    message = "--integrator must be be or bdf2, got '" + spec.integrator + "'";
+  else if (!ParseDt(spec.dt, dt))
+    message = "--dt must be 1/N or a number > 0, got '" + spec.dt + "'";
+  else if (!(spec.endTime >= 0) || !std::isfinite(spec.endTime))
+    message = "--end-time must be finite and >= 0";
+  else if ((spec.steps = PlannedSteps(spec)) < 1)
+    message = "--steps must be >= 1, and --end-time at least one --dt";
+  else if (!(spec.stiffnessRatio > 0) || !std::isfinite(spec.stiffnessRatio))
+    message = "--stiffness-ratio must be finite and > 0";
+  else if (!(spec.rtol > 0 && spec.rtol < 1))
+    message = "--rtol must be in (0, 1)";
+  else if (!(spec.newtonTol > 0) || !std::isfinite(spec.newtonTol))
+    message = "--newton-tol must be finite and > 0";
+  else if (spec.newtonMaxIterations < 0 || spec.pcgMaxIterations < 1)
+    message = "--newton-max-it must be >= 0 and --pcg-max-it >= 1";
+  else if (!MakeMethod(spec, method))
+    message = "unknown --method '" + spec.method + "'";
+  else if (!spec.referenceIn.empty() && !spec.referenceOut.empty())
+    message = "--reference-in and --reference-out exclude each other";
+  else
+    CountDofs(spec.family, spec.size, message);
+  return message.empty();
+}
+
+}  // namespace
+
+bool ParseSpecArgs(std::vector<std::string> const& args, RunSpec& spec, std::string& message,
+                   std::vector<std::string_view> const& extra,
+                   std::vector<std::pair<std::string, std::string>>& extraValues) {
+  for (std::size_t i = 0; i < args.size(); i += 2) {
+    std::string const& name = args[i];
+    if (i + 1 >= args.size()) {
+      message = "option " + name + " needs a value";
+      return false;
+    }
+    std::string const& value = args[i + 1];
+    auto const& options = SpecOptions();
+    auto const option = std::find_if(options.begin(), options.end(),
+                                     [&](SpecOption const& o) { return o.name == name; });
+    if (option != options.end()) {
+      if (!SetField(*option, value, spec)) {
+        message = "option " + name + " needs a number, got '" + value + "'";
+        return false;
+      }
+    } else if (std::find(extra.begin(), extra.end(), name) != extra.end()) {
+      extraValues.emplace_back(name, value);
+    } else {
+      message = "unknown option '" + name + "'";
+      return false;
+    }
+  }
+  return ValidateSpec(spec, message);
+}
+
+bool ParseDt(std::string const& text, double& dt) {
+  char* end = nullptr;
+  bool const fraction = text.starts_with("1/");
+  double const x = std::strtod(text.c_str() + (fraction ? 2 : 0), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(x) || x <= 0) return false;
+  dt = fraction ? 1 / x : x;
+  return true;
+}
+
+std::string DtLabel(double dt) {
+  double const inverse = 1 / dt;
+  if (std::abs(inverse - std::round(inverse)) < 1e-9 * inverse)
+    return "1/" + std::to_string(std::llround(inverse));
+  return Cell(dt);
+}
+
+std::string ShortNumber(double value) {
+  if (value == 0 || !std::isfinite(value)) return Cell(value);
+  int const exponent = static_cast<int>(std::floor(std::log10(std::abs(value)) + 1e-12));
+  if (exponent >= -2 && exponent <= 2) return Cell(value, 4);
+  std::string const mantissa = Cell(value / std::pow(10.0, exponent), 4);
+  return (mantissa == "1" ? "" : mantissa) + (mantissa == "1" ? "1e" : "e") +
+         std::to_string(exponent);
+}
+
+// ------------------------------------------------------------------ methods
+
+namespace {
+
+struct MethodDef {
+  std::string_view label;
+  LinearSolverType solver;
+  PcgPreconditioner preconditioner = PcgPreconditioner::None;  ///< PetscPcg only
+  OrderingMethod ordering = OrderingMethod::Metis;
+  bool reuseAmgInterpolation = false;
+  bool adaptiveTolerance = false;
+};
+
+using Pc = PcgPreconditioner;
+constexpr auto kPcg = LinearSolverType::PetscPcg;
+
+std::array<MethodDef, 12> const kMethods{{
+    {"cholmod", LinearSolverType::Cholmod},
+    {"cholmod-amd", LinearSolverType::Cholmod, Pc::None, OrderingMethod::SolverDefault},
+    {"dense", LinearSolverType::Dense},
+    {"pcg-none", kPcg, Pc::None},
+    {"pcg-jacobi", kPcg, Pc::Jacobi},
+    {"pcg-pbjacobi", kPcg, Pc::PointBlockJacobi},
+    {"pcg-bjacobi", kPcg, Pc::BlockJacobi},
+    {"pcg-icc", kPcg, Pc::Icc},
+    {"pcg-gamg", kPcg, Pc::Gamg},
+    {"pcg-gamg-reuse", kPcg, Pc::Gamg, OrderingMethod::Metis, true},
+    {"pcg-gamg-ew", kPcg, Pc::Gamg, OrderingMethod::Metis, false, true},
+    {"pcg-hypre", kPcg, Pc::BoomerAmg},
+}};
+
+MethodDef const* FindMethod(std::string_view label) {
+  for (MethodDef const& m : kMethods)
+    if (m.label == label) return &m;
+  return nullptr;
+}
+
+template <class T>
+bool Contains(DynamicArray<T> const& values, T value) {
+  return std::find(values.begin(), values.end(), value) != values.end();
+}
+
+}  // namespace
+
+std::vector<std::string_view> const& MethodLabels() {
+  static std::vector<std::string_view> const labels = FieldOf(kMethods, &MethodDef::label);
+  return labels;
+}
+
+bool MakeMethod(RunSpec const& spec, Method& method) {
+  MethodDef const* def = FindMethod(spec.method);
+  if (!def) return false;
+  method = Method{};
+  method.solver = def->solver;
+  method.ordering = def->ordering;
+  method.isPcg = def->solver == kPcg;
+  method.pcg.preconditioner = def->preconditioner;
+  method.pcg.relativeTolerance = spec.rtol;
+  method.pcg.maxIterations = spec.pcgMaxIterations;
+  method.pcg.reuseAmgInterpolation = def->reuseAmgInterpolation;
+  method.pcg.adaptiveTolerance = def->adaptiveTolerance;
+  // the Eisenstat–Walker cap must stay >= rtol
+  method.pcg.adaptiveMaxTolerance = std::max(method.pcg.adaptiveMaxTolerance, spec.rtol);
+  return true;
+}
+
+bool MethodAvailable(std::string_view label, std::string& why) {
+  MethodDef const* def = FindMethod(label);
+  if (!def) {
+    why = "unknown method";
+    return false;
+  }
+  if (!Contains(AvailableLinearSolvers(), def->solver)) {
+    why = std::string(ToString(def->solver)) + " is not in this build";
+    return false;
+  }
+  if (def->solver == kPcg && !Contains(AvailablePcgPreconditioners(), def->preconditioner)) {
+    why = std::string(ToString(def->preconditioner)) + " is not in this build";
+    return false;
+  }
+  return true;
+}
+
+// ------------------------------------------------------------- result rows
+
+// clang-format off
+std::array<std::string_view, kNumColumns> const kColumnNames{
+    "suite", "study", "family", "size", "dofs", "material", "stiffness_ratio", "method", "solver",
+    "preconditioner", "rtol", "newton_tol", "integrator", "dt", "steps", "end_time",
+    "newton_iterations", "linear_iterations", "linear_solves", "pattern_builds",
+    "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
+    "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
+    "total_s", "peak_rss_mb", "error", "reference", "status", "reason"};
+// clang-format on
+
+bool IsNumericColumn(int column) {
+  static constexpr std::array kText{kSuite,      kStudy,     kFamily, kSize,
+                                    kMaterial,   kMethod,    kSolver, kPreconditioner,
+                                    kIntegrator, kReference, kStatus, kReason};
+  return std::find(kText.begin(), kText.end(), column) == kText.end();
+}
+
+std::string Cell(double value, int digits) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return text;
+}
+
+std::string OneLine(std::string_view text, std::size_t maxChars) {
+  std::string line(text.substr(0, maxChars));
+  std::replace_if(
+      line.begin(), line.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  return line;
+}
+
+Row RowFromSpec(RunSpec const& spec) {
+  Row row;
+  double dt = 0;
+  ParseDt(spec.dt, dt);
+  Method method;
+  bool const known = MakeMethod(spec, method);
+  std::string message;
+  int const dofs = CountDofs(spec.family, spec.size, message);
+  row[kSuite] = spec.suite;
+  row[kStudy] = spec.study;
+  row[kFamily] = spec.family;
+  row[kSize] = spec.size;
+  row[kDofs] = dofs > 0 ? Cell(dofs) : "";
+  row[kMaterial] = MaterialLabel(spec.family, spec.stiffnessRatio);
+  row[kStiffnessRatio] = Cell(spec.stiffnessRatio);
+  row[kMethod] = spec.method;
+  if (known && method.isPcg) {
+    row[kPreconditioner] = ToString(method.pcg.preconditioner);
+    row[kRtol] = Cell(spec.rtol);
+  }
+  row[kNewtonTol] = Cell(spec.newtonTol);
+  row[kIntegrator] = spec.integrator;
+  row[kDt] = Cell(dt, 9);
+  row[kSteps] = Cell(0);
+  row[kEndTime] = Cell(PlannedSteps(spec) * dt, 9);
+  if (!spec.referenceIn.empty()) row[kReference] = spec.referenceDesc;
+  return row;
+}
+
+// ------------------------------------------------------------ running
+
+namespace {
+
+// Reference files: "SDXREF1\n", the point count (int64), then x, y, z of
+// every tracked point (doubles, native byte order: written and read on the
+// same machine by the same suite).
+constexpr char kReferenceMagic[8] = {'S', 'D', 'X', 'R', 'E', 'F', '1', '\n'};
+
+bool WriteReference(std::string const& path, DynamicArray<Real3> const& points) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  std::int64_t const count = static_cast<std::int64_t>(points.size());
+  file.write(kReferenceMagic, sizeof kReferenceMagic);
+  file.write(reinterpret_cast<char const*>(&count), sizeof count);
+  for (Real3 const& p : points)
+    file.write(reinterpret_cast<char const*>(p.data()), 3 * sizeof(real));
+  return static_cast<bool>(file.flush());
+}
+
+bool ReadReference(std::string const& path, DynamicArray<Real3>& points, std::string& message) {
+  std::ifstream file(path, std::ios::binary);
+  char magic[sizeof kReferenceMagic] = {};
+  std::int64_t count = -1;
+  file.read(magic, sizeof magic);
+  file.read(reinterpret_cast<char*>(&count), sizeof count);
+  if (!file || std::memcmp(magic, kReferenceMagic, sizeof magic) != 0 || count < 0 ||
+      count > (1 << 28)) {
+    message = "reference " + path + " missing or not a reference file";
+    return false;
+  }
+  points.resize(static_cast<std::size_t>(count));
+  for (Real3& p : points) file.read(reinterpret_cast<char*>(p.data()), 3 * sizeof(real));
+  if (!file) message = "reference " + path + " is truncated";
+  return static_cast<bool>(file);
+}
+
+/// sqrt(mean |x − x_ref|²) / L, or a message when the point sets differ.
+bool RmsError(DynamicArray<Real3> const& x, DynamicArray<Real3> const& reference, real length,
+              double& error, std::string& message) {
+  if (x.size() != reference.size() || x.empty()) {
+    message = "reference has " + std::to_string(reference.size()) + " points, the run " +
+              std::to_string(x.size());
+    return false;
+  }
+  double sum = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sum += (x[i] - reference[i]).squaredNorm();
+  error = std::sqrt(sum / static_cast<double>(x.size())) / length;
+  return true;
+}
+
+/// The figures summed over the steps of a run.
+struct Totals {
+  long long newton = 0, linearIterations = 0, linearSolves = 0;
+  double analysis = 0, assembly = 0, factorization = 0, solve = 0, lineSearch = 0, step = 0;
+
+  void Add(SceneStats const& s) {
+    newton += s.newtonIterations;
+    linearIterations += s.linearIterations;
+    linearSolves += s.linearSolves;
+    analysis += s.analysisSeconds;
+    assembly += s.assemblySeconds;
+    factorization += s.factorizationSeconds;
+    solve += s.solveSeconds;
+    lineSearch += s.lineSearchSeconds;
+    step += s.stepSeconds;
+  }
+};
+
+/// Fills the measured columns of `row` from the totals of `steps` steps and
+/// the scene's statistics (cumulative counters; nnz and flops of the last step).
+void FillMeasured(Row& row, Totals const& t, int steps, SceneStats const& s) {
+  row[kSteps] = Cell(steps);
+  row[kPatternBuilds] = Cell(s.patternBuilds);
+  row[kSymbolicAnalyses] = Cell(s.symbolicAnalyses);
+  row[kSolverObjectBuilds] = Cell(s.linearSolverObjectBuilds);
+  if (steps == 0) return;
+  row[kSolver] = s.linearSolver;
+  row[kNewtonIterations] = Cell(t.newton);
+  row[kLinearIterations] = Cell(t.linearIterations);
+  row[kLinearSolves] = Cell(t.linearSolves);
+  row[kNnzH] = Cell(s.hessianNonzeros);
+  if (s.factorNonzeros > 0) row[kNnzL] = Cell(s.factorNonzeros, 9);
+  if (s.factorFlops > 0) row[kFactorFlops] = Cell(s.factorFlops);
+  row[kAnalysisS] = Cell(t.analysis);
+  row[kAssemblyS] = Cell(t.assembly);
+  row[kFactorizationS] = Cell(t.factorization);
+  row[kSolveS] = Cell(t.solve);
+  row[kLineSearchS] = Cell(t.lineSearch);
+  row[kOtherS] = Cell(t.step - t.analysis - t.assembly - t.factorization - t.solve - t.lineSearch);
+  row[kWallPerStepS] = Cell(t.step / steps);
+}
+
+/// Compares with (or writes) the reference; sets the error column, or a
+/// note in `reason` when the reference is missing or does not match.
+void HandleReference(RunSpec const& spec, FamilyScene const& fs, Row& row) {
+  DynamicArray<Real3> const x = fs.trackedPositions();
+  if (!spec.referenceOut.empty()) {
+    if (!WriteReference(spec.referenceOut, x)) {
+      row[kStatus] = "failed";
+      row[kReason] = "cannot write " + spec.referenceOut;
+    }
+    return;
+  }
+  if (spec.referenceIn.empty()) return;
+  DynamicArray<Real3> reference;
+  double error = 0;
+  std::string message;
+  if (ReadReference(spec.referenceIn, reference, message) &&
+      RmsError(x, reference, fs.length, error, message))
+    row[kError] = Cell(error);
+  else
+    row[kReason] = OneLine(message);
+}
+
+/// "LinearSolverFailed at step 3: <message>" (the code name first, so that
+/// the cut to one short line keeps it).
+/// The row's reason for a failed step: the code name, where, and the
+/// library's message without the parts other columns hold (Scene::Step's
+/// "Step(dt = ...) at t = ... failed in " prefix; the solver description in
+/// "linear solver <description> failed (...)"), so that the cause survives the
+/// cut to one short line.
+std::string Reason(Error const& error, std::string const& where) {
+  std::string message = error.GetMessage();
+  std::size_t const cause = message.find(" failed in ");
+  if (message.starts_with("Step(") && cause != message.npos)
+    message.erase(0, cause + std::strlen(" failed in "));
+  std::string_view const solver = "linear solver ";
+  std::size_t const description = message.find(solver);
+  std::size_t const failed = message.find(" failed (", description);
+  if (description != message.npos && failed != message.npos)
+    message.erase(description + solver.size() - 1, failed - (description + solver.size() - 1));
+  return std::string(ToString(error.GetCode())) + " at " + where + ": " + message;
+}
+
+double PeakRssMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // KiB on Linux
+}
+
+}  // namespace
+
+Row ExecuteRun(RunSpec const& spec) {
+  auto const start = std::chrono::steady_clock::now();
+  Row row = RowFromSpec(spec);
+  auto finish = [&](std::string_view status, std::string_view reason) {
+    row[kStatus] = status;
+    if (!reason.empty()) row[kReason] = OneLine(reason);
+    row[kTotalS] =
+        Cell(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    row[kPeakRssMb] = Cell(PeakRssMb(), 4);
+    return row;
+  };
+
+  Method method;
+  double dt = 0;
+  std::string message;
+  int const dofs = CountDofs(spec.family, spec.size, message);
+  if (!MakeMethod(spec, method) || !ParseDt(spec.dt, dt) || dofs < 0)
+    return finish("failed", message.empty() ? "invalid run spec" : message);
+  if (method.solver == LinearSolverType::Dense && dofs > kDenseMaxDofs)
+    return finish("skipped", "dense only up to " + std::to_string(kDenseMaxDofs) + " DoFs");
+
+  SceneParams params;
+  params.integrator =
+      spec.integrator == "bdf2" ? IntegratorType::Bdf2 : IntegratorType::BackwardEuler;
+  params.newton.velocityTolerance = spec.newtonTol;
+  params.newton.maxIterations = spec.newtonMaxIterations > 0
+                                    ? spec.newtonMaxIterations
+                                    : DefaultNewtonMaxIterations(spec.family);
+  params.linearSolver = method.solver;
+  params.pcg = method.pcg;
+  params.ordering = method.ordering;
+
+  Error error;
+  // PETSc (and MPI) start once per process, on the first PCG solver created:
+  // ~0.3 s here, which the first Step would otherwise carry in no phase (it
+  // would land in other_s). An application pays it once, not per step, so it
+  // is paid here, before the timed steps (it still counts in total_s).
+  if (method.isPcg && !CreateLinearSolver(method.solver, method.pcg, error))
+    return finish("failed", Reason(error, "set-up"));
+  FamilyScene fs;
+  if (!BuildFamilyScene(spec.family, spec.size, spec.stiffnessRatio, params, fs, error))
+    return finish("failed", Reason(error, "set-up"));
+  row[kDofs] = Cell(fs.scene->GetNumDofs());
+
+  Totals totals;
+  int done = 0;
+  bool ok = true;
+  for (; done < spec.steps; ++done) {
+    if (!(ok = fs.scene->Step(dt, error))) break;
+    totals.Add(fs.scene->GetStats());
+  }
+  FillMeasured(row, totals, done, fs.scene->GetStats());
+  if (!ok) return finish("failed", Reason(error, "step " + std::to_string(done + 1)));
+  HandleReference(spec, fs, row);
+  std::string const status = row[kStatus].empty() ? "ok" : row[kStatus];
+  std::string const reason = row[kReason];
+  return finish(status, reason);
+}
+
+}  // namespace superdex::perf

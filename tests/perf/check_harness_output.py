@@ -1,0 +1,78 @@
+"""Checks a perf harness output folder after `superdex_perf --suite tiny` and
+`plot.py`: the CSV has exactly the documented columns in order and at least one
+row per study, every run of the tiny suite succeeded (except stability cells,
+whose failures are data), the JSON has one object per CSV row, and every chart
+is a non-empty PNG.
+
+usage: check_harness_output.py OUT_DIR
+"""
+import csv
+import json
+import sys
+from pathlib import Path
+
+COLUMNS = (
+    "suite study family size dofs material stiffness_ratio method solver preconditioner rtol "
+    "newton_tol integrator dt steps end_time newton_iterations linear_iterations linear_solves "
+    "pattern_builds symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops analysis_s "
+    "assembly_s factorization_s solve_s line_search_s other_s wall_per_step_s total_s "
+    "peak_rss_mb error reference status reason"
+).split()
+STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference")
+CHARTS = ("scaling.png", "phases.png", "work_precision_cantilever.png", "stability_cantilever.png")
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def fail(message):
+    print(f"check_harness_output: FAILED: {message}")
+    sys.exit(1)
+
+
+def main():
+    if len(sys.argv) != 2:
+        fail("usage: check_harness_output.py OUT_DIR")
+    out = Path(sys.argv[1])
+
+    # the CSV: exact columns, rows of every study, every non-stability run ok
+    with open(out / "results.csv", newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader)
+        rows = [dict(zip(header, r)) for r in reader]
+    if header != COLUMNS:
+        missing = [c for c in COLUMNS if c not in header]
+        extra = [c for c in header if c not in COLUMNS]
+        fail(f"CSV columns differ: missing {missing}, extra {extra}, order {header}")
+    for study in STUDIES:
+        if not any(r["study"] == study for r in rows):
+            fail(f"no row of study '{study}'")
+    for r in rows:
+        if r["study"] != "stability" and r["status"] != "ok":
+            fail(f"run failed: {r['family']} {r['size']} {r['method']}: {r['reason']}")
+        if r["status"] == "ok" and not float(r["wall_per_step_s"]) > 0:
+            fail(f"run without a time: {r}")
+    # work-precision rows carry an error against their reference
+    for r in rows:
+        if r["study"] == "work_precision" and not float(r["error"]) > 0:
+            fail(f"work-precision run without an error: {r['method']} dt {r['dt']}")
+
+    # the JSON: the same runs
+    runs = json.loads((out / "results.json").read_text())
+    if len(runs) != len(rows) or set(runs[0]) != set(COLUMNS):
+        fail(f"results.json has {len(runs)} runs for {len(rows)} CSV rows, or other keys")
+
+    # the charts and the summary
+    for chart in CHARTS:
+        path = out / chart
+        if not path.is_file():
+            fail(f"{chart} was not written")
+        data = path.read_bytes()
+        if not data.startswith(PNG_SIGNATURE) or len(data) < 5000:
+            fail(f"{chart} is not a non-empty PNG ({len(data)} bytes)")
+    summary = (out / "summary.md").read_text()
+    if "|" not in summary:
+        fail("summary.md has no table")
+    print(f"check_harness_output: {len(rows)} runs, {len(CHARTS)} charts and summary.md ok")
+
+
+if __name__ == "__main__":
+    main()
