@@ -358,9 +358,15 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   PCFailedReason failed = PC_NOERROR;
   SUPERDEX_PETSC(PCGetFailedReason(pc, &failed));
   if (failed != PC_NOERROR) {
-    return Failure(LinearSolveStatus::NotConverged,
+    // every PCFailedReason is a factorization breaking down inside the
+    // preconditioner (ICC, a block's ICC, an AMG coarse-grid or smoother
+    // factorization): what an indefinite matrix causes, and what Newton
+    // answers by projecting the element Hessians
+    return Failure(LinearSolveStatus::NotPositiveDefinite,
                    "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) +
-                       " set-up failed: PC_" + PCFailedReasons[failed]);
+                       " set-up failed: PC_" + PCFailedReasons[failed] +
+                       " (a factorization inside it broke down: the matrix is not positive "
+                       "definite, or too badly conditioned for it)");
   }
 
   // every option of PcgParams::options must have been read by now
