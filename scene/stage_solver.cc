@@ -224,7 +224,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     }
     if (!result.Ok()) {
       std::string detail = result.reason;
-      if (result.status == LinearSolveStatus::NotPositiveDefinite)
+      if (result.status == LinearSolveStatus::NotPositiveDefinite && result.failingColumn >= 0)
         detail = "matrix not positive definite at column " + std::to_string(result.failingColumn);
       error.Set(ErrorCode::LinearSolverFailed, Where(stageIndex, iteration) + ": linear solver " +
                                                     solver_->GetDescription() + " failed (" +
