@@ -253,8 +253,11 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
   SUPERDEX_PETSC(MatSetBlockSize(impl.matrix, blockSize));
   SUPERDEX_PETSC(MatSetType(impl.matrix, MATSEQAIJ));
   SUPERDEX_PETSC(MatSeqAIJSetPreallocationCSR(impl.matrix, rowStart.data(), columns.data(), nullptr));
-  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_SPD, PETSC_TRUE));
-  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_SPD_ETERNAL, PETSC_TRUE));
+  // symmetric, but not flagged SPD: with exact element Hessians Newton may
+  // hand over an indefinite matrix, on which GAMG's CG eigenvalue estimates
+  // (chosen for SPD matrices) break down inside the set-up
+  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_SYMMETRIC, PETSC_TRUE));
+  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
   SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
   if (n > 0)
     SUPERDEX_PETSC(MatSetVariableBlockSizes(impl.matrix, static_cast<PetscInt>(impl.blockSizes.size()),
@@ -358,6 +361,8 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   PCFailedReason failed = PC_NOERROR;
   SUPERDEX_PETSC(PCGetFailedReason(pc, &failed));
   if (failed != PC_NOERROR) {
+    // a failed set-up leaves the PC unusable: start its next set-up afresh
+    PCReset(pc);
     // every PCFailedReason is a factorization breaking down inside the
     // preconditioner (ICC, a block's ICC, an AMG coarse-grid or smoother
     // factorization): what an indefinite matrix causes, and what Newton
