@@ -210,11 +210,12 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Scaling("cantilever", {"100x20x20"}, {"cholmod", "cholmod-amd", "pcg-jacobi", "pcg-gamg"}, 2);
     b.Scaling("cantilever", {"135x27x27"}, {"cholmod", "pcg-gamg"}, 2);
     // the bullet study: 0.6 s of fully converged Newton (velocity tolerance
-    // 1e-6 m/s), E = 1e5 and 1e7; CG to rtol 1e-3 (inexact Newton: Newton's
+    // 1e-6 m/s), E = 1e5 and 1e7; CG to rtol 1e-2 (inexact Newton: Newton's
     // own test decides convergence; on 40x8x8 the end state differs from a
-    // Newton-tolerance-1e-9 CHOLMOD run by 1.7e-10 of the beam length)
+    // Newton-tolerance-1e-9 CHOLMOD run by 1.0e-9 of the beam length, and
+    // 149 instead of 139 Newton iterations buy 55 instead of 65 ms per step)
     b.Scaling("cantilever", {"40x8x8", "80x16x16"}, {"cholmod", "pcg-jacobi", "pcg-icc", "pcg-gamg"},
-              36, "bullet", {"1", "100"}, "1/60", 1e-3);
+              36, "bullet", {"1", "100"}, "1/60", 1e-2);
     Labels methods = quickMethods;
     methods.push_back("pcg-gamg-reuse");
     b.Scaling("cloth", {"12x12", "24x24", "48x48"}, methods, 3);
