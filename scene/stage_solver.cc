@@ -186,6 +186,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     LinearSolveResult result;
     real forcingTerm = pcg_.relativeTolerance;
     bool project = newton.hessianProjection == HessianProjection::Always;
+    bool forcingSet = false;
     for (;;) {
       auto start = Clock::now();
       gradient_.setZero();
@@ -207,9 +208,11 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       start = Clock::now();
       result = solver_->Factorize(assembler_.GetMatrix());
       stats.factorizationSeconds += SecondsSince(start);
-      if (inexact) {
+      // once per iteration: a projected retry has the same gradient
+      if (inexact && !forcingSet) {
         forcingTerm = ForcingTerm(iteration, gradient_.norm());
         solver_->SetRelativeTolerance(forcingTerm);
+        forcingSet = true;
       }
       if (result.Ok()) result = SolveNewtonSystem(stats);
       bool const notDescent = result.Ok() && !(gradient_.dot(delta_) < 0);
