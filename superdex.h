@@ -12,7 +12,10 @@
 #include <superdex/actors/deformable_actor.h>
 #include <superdex/actors/mesh.h>
 #include <superdex/actors/vtk_writer.h>
+#include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/rigid_actor.h>
+#include <superdex/actors/rod_actor.h>
+#include <superdex/actors/rod_element.h>
 
 #include <superdex/constraints/constraint.h>
 #include <superdex/constraints/deformable_node_position.h>
@@ -25,6 +28,7 @@
 #include <superdex/constraints/rigid_pivot_to_rigid_target.h>
 #include <superdex/constraints/rigid_prismatic_joint.h>
 #include <superdex/constraints/rigid_spherical_joint.h>
+#include <superdex/constraints/rod_element_rotation_to_rigid.h>
 
 #include <superdex/linsolve/linear_solver.h>
 

@@ -6,6 +6,7 @@ std::string_view ToString(ActorType type) {
   switch (type) {
     case ActorType::Rigid: return "Rigid";
     case ActorType::Deformable: return "Deformable";
+    case ActorType::Rod: return "Rod";
   }
   return "Unknown";
 }

@@ -12,7 +12,7 @@ namespace superdex {
 
 class Scene;
 
-enum class ActorType { Rigid, Deformable };
+enum class ActorType { Rigid, Deformable, Rod };
 
 std::string_view ToString(ActorType type);
 

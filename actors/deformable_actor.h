@@ -18,7 +18,7 @@
 
 #include <array>
 
-#include <superdex/actors/actor.h>
+#include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/shell_element.h>
 #include <superdex/actors/tet_element.h>
 #include <superdex/core/error.h>
@@ -44,14 +44,14 @@ struct DeformableActorParams {
   DynamicArray<Real3> initialVelocities;
 };
 
-class DeformableActor final : public Actor {
+class DeformableActor final : public NodalActor {
  public:
   /// Validates everything (material parameters, mesh indices, non-degenerate
   /// and positively oriented rest elements, every node in some element);
   /// nullptr and an Error naming the field or element on bad input.
   static std::unique_ptr<DeformableActor> Create(DeformableActorParams const& params, Error& error);
 
-  int GetNumNodes() const { return static_cast<int>(reference_.size()); }
+  int GetNumNodes() const override { return static_cast<int>(reference_.size()); }
   int GetNumTetrahedra() const { return static_cast<int>(tetrahedra_.size()); }
   int GetNumTriangles() const { return static_cast<int>(triangles_.size()); }
   int GetNumHinges() const { return static_cast<int>(hinges_.size()); }
@@ -63,15 +63,15 @@ class DeformableActor final : public Actor {
   /// u of node i (actor frame).
   Real3 const& GetNodeDisplacement(int i) const { return state_.displacement[i]; }
   /// T(X + u), world frame.
-  Real3 GetNodePosition(int i) const;
+  Real3 GetNodePosition(int i) const override;
   /// World-frame velocity of node i.
-  Real3 GetNodeVelocity(int i) const;
-  real GetNodeMass(int i) const { return mass_[i]; }
+  Real3 GetNodeVelocity(int i) const override;
+  real GetNodeMass(int i) const override { return mass_[i]; }
   real GetTotalMass() const;
   /// World positions of all nodes (one bulk copy).
   DynamicArray<Real3> GetNodePositions() const;
   Real3 const& GetTransformPosition() const { return transformPosition_; }
-  Quat const& GetTransformRotation() const { return transformRotation_; }
+  Quat const& GetTransformRotation() const override { return transformRotation_; }
 
   real GetKineticEnergy() const;
   /// Elastic energy of every element at the current configuration.
@@ -80,7 +80,7 @@ class DeformableActor final : public Actor {
   int CountInvertedTetrahedra() const;
 
  private:
-  DeformableActor(int numNodes) : Actor(ActorType::Deformable, 3 * numNodes) {}
+  DeformableActor(int numNodes) : NodalActor(ActorType::Deformable, numNodes, 3) {}
 
   struct State {
     DynamicArray<Real3> displacement, velocity;  ///< actor frame

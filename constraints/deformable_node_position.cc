@@ -1,20 +1,16 @@
 #include <superdex/constraints/deformable_node_position.h>
 
-#include <superdex/actors/deformable_actor.h>
+#include <superdex/actors/nodal_actor.h>
 
 namespace superdex {
 
-namespace {
-DynamicArray<int> NodeDofs(int node) { return {3 * node, 3 * node + 1, 3 * node + 2}; }
-}  // namespace
-
 DeformableNodePositionConstraint::DeformableNodePositionConstraint(
-    DeformableActor* actor, DeformableNodePositionConstraintParams const& params)
+    NodalActor* actor, DeformableNodePositionConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::DeformableNodePosition,
                         .dimension = 3,
                         .targetKind = TargetKind::Position,
                         .actors = {actor, nullptr},
-                        .localDofs = {NodeDofs(params.nodeIndex), DynamicArray<int>{}}},
+                        .localDofs = {actor->GetNodePositionDofs(params.nodeIndex), DynamicArray<int>{}}},
                  {params.stiffness, params.damping, params.saturation}),
       actor_(actor),
       node_(params.nodeIndex) {

@@ -10,7 +10,7 @@
 
 namespace superdex {
 
-class DeformableActor;
+class NodalActor;
 
 struct DeformableNodePositionConstraintParams {
   ActorHandle actor;                ///< a deformable actor
@@ -23,7 +23,7 @@ struct DeformableNodePositionConstraintParams {
 
 class DeformableNodePositionConstraint final : public Constraint {
  public:
-  DeformableNodePositionConstraint(DeformableActor* actor,
+  DeformableNodePositionConstraint(NodalActor* actor,
                                    DeformableNodePositionConstraintParams const& params);
   int GetNodeIndex() const { return node_; }
 
@@ -31,7 +31,7 @@ class DeformableNodePositionConstraint final : public Constraint {
   void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                   Eigen::Ref<MatrixX> jacobian) const override;
 
-  DeformableActor* actor_;
+  NodalActor* actor_;
   int node_;
 };
 

@@ -1,19 +1,17 @@
 #include <superdex/constraints/deformable_node_to_deformable_node.h>
 
-#include <superdex/actors/deformable_actor.h>
+#include <superdex/actors/nodal_actor.h>
 
 namespace superdex {
 
 DeformableNodeToDeformableNodeConstraint::DeformableNodeToDeformableNodeConstraint(
-    DeformableActor* actorA, DeformableActor* actorB,
+    NodalActor* actorA, NodalActor* actorB,
     DeformableNodeToDeformableNodeConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::DeformableNodeToDeformableNode,
                         .dimension = 3,
                         .actors = {actorA, actorB},
-                        .localDofs = {DynamicArray<int>{3 * params.nodeIndexA, 3 * params.nodeIndexA + 1,
-                                                        3 * params.nodeIndexA + 2},
-                                      DynamicArray<int>{3 * params.nodeIndexB, 3 * params.nodeIndexB + 1,
-                                                        3 * params.nodeIndexB + 2}}},
+                        .localDofs = {actorA->GetNodePositionDofs(params.nodeIndexA),
+                                      actorB->GetNodePositionDofs(params.nodeIndexB)}},
                  {params.stiffness, params.damping, params.saturation}),
       actorA_(actorA),
       actorB_(actorB),

@@ -10,7 +10,7 @@
 
 namespace superdex {
 
-class DeformableActor;
+class NodalActor;
 
 struct DeformableNodeToDeformableNodeConstraintParams {
   ActorHandle actorA;       ///< a deformable actor
@@ -24,15 +24,15 @@ struct DeformableNodeToDeformableNodeConstraintParams {
 
 class DeformableNodeToDeformableNodeConstraint final : public Constraint {
  public:
-  DeformableNodeToDeformableNodeConstraint(DeformableActor* actorA, DeformableActor* actorB,
+  DeformableNodeToDeformableNodeConstraint(NodalActor* actorA, NodalActor* actorB,
                                            DeformableNodeToDeformableNodeConstraintParams const& params);
 
  private:
   void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                   Eigen::Ref<MatrixX> jacobian) const override;
 
-  DeformableActor* actorA_;
-  DeformableActor* actorB_;
+  NodalActor* actorA_;
+  NodalActor* actorB_;
   int nodeA_, nodeB_;
 };
 

@@ -1,19 +1,17 @@
 #include <superdex/constraints/deformable_node_to_rigid.h>
 
-#include <superdex/actors/deformable_actor.h>
+#include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/core/so3.h>
 
 namespace superdex {
 
 DeformableNodeToRigidConstraint::DeformableNodeToRigidConstraint(
-    DeformableActor* deformable, RigidActor* rigid, DeformableNodeToRigidConstraintParams const& params)
+    NodalActor* deformable, RigidActor* rigid, DeformableNodeToRigidConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::DeformableNodeToRigid,
                         .dimension = 3,
                         .actors = {deformable, rigid},
-                        .localDofs = {DynamicArray<int>{3 * params.deformableNodeIndex,
-                                                        3 * params.deformableNodeIndex + 1,
-                                                        3 * params.deformableNodeIndex + 2},
+                        .localDofs = {deformable->GetNodePositionDofs(params.deformableNodeIndex),
                                       DynamicArray<int>{0, 1, 2, 3, 4, 5}}},
                  {params.stiffness, params.damping, params.saturation}),
       deformable_(deformable),

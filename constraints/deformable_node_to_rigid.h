@@ -14,7 +14,7 @@
 
 namespace superdex {
 
-class DeformableActor;
+class NodalActor;
 class RigidActor;
 
 struct DeformableNodeToRigidConstraintParams {
@@ -30,7 +30,7 @@ struct DeformableNodeToRigidConstraintParams {
 
 class DeformableNodeToRigidConstraint final : public Constraint {
  public:
-  DeformableNodeToRigidConstraint(DeformableActor* deformable, RigidActor* rigid,
+  DeformableNodeToRigidConstraint(NodalActor* deformable, RigidActor* rigid,
                                   DeformableNodeToRigidConstraintParams const& params);
   /// r, the pivot in the rigid body's frame.
   Real3 const& GetLocalPos() const { return localPos_; }
@@ -39,7 +39,7 @@ class DeformableNodeToRigidConstraint final : public Constraint {
   void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                   Eigen::Ref<MatrixX> jacobian) const override;
 
-  DeformableActor* deformable_;
+  NodalActor* deformable_;
   RigidActor* rigid_;
   int node_;
   Real3 localPos_;

@@ -106,6 +106,14 @@ DeformableActor* Scene::CreateDeformableActor(DeformableActorParams const& param
   return raw;
 }
 
+RodActor* Scene::CreateRodActor(RodActorParams const& params, Error& error) {
+  std::unique_ptr<RodActor> actor = RodActor::Create(params, error);
+  if (!actor) return nullptr;
+  RodActor* raw = actor.get();
+  AddActor(std::move(actor));
+  return raw;
+}
+
 Actor* Scene::GetActor(ActorHandle handle) const { return actors_.Get(handle); }
 
 void Scene::ForEachActor(std::function<void(Actor&)> const& fn) const {
@@ -139,27 +147,34 @@ bool Scene::DestroyActor(ActorHandle handle, Error& error) {
 
 template <class T>
 T* Scene::GetActorAs(ActorHandle handle, std::string_view field, Error& error) const {
-  constexpr ActorType kType = std::is_same_v<T, RigidActor> ? ActorType::Rigid : ActorType::Deformable;
+  // NodalActor: deformable or rod
+  constexpr bool kNodal = std::is_same_v<T, NodalActor>;
+  constexpr ActorType kType = std::is_same_v<T, RigidActor> ? ActorType::Rigid
+                              : std::is_same_v<T, RodActor> ? ActorType::Rod
+                                                            : ActorType::Deformable;
   Actor* actor = actors_.Get(handle);
   if (!actor) {
     error.Set(ErrorCode::InvalidHandle,
               std::string(field) + ": actor handle " + HandleText(handle) + " is null or stale");
     return nullptr;
   }
-  if (actor->GetType() != kType) {
+  bool const matches = kNodal ? (actor->GetType() == ActorType::Deformable || actor->GetType() == ActorType::Rod)
+                              : actor->GetType() == kType;
+  if (!matches) {
     error.Set(ErrorCode::InvalidHandle, std::string(field) + ": actor " + HandleText(handle) + " is a " +
                                             std::string(ToString(actor->GetType())) + " actor, expected a " +
-                                            std::string(ToString(kType)) + " actor");
+                                            (kNodal ? std::string("Deformable or Rod") : std::string(ToString(kType))) +
+                                            " actor");
     return nullptr;
   }
   return static_cast<T*>(actor);
 }
 
-DeformableActor* Scene::GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
+NodalActor* Scene::GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
                                           std::string_view actorField, std::string_view nodeField,
                                           Error& error) const {
   std::string const prefix = std::string(paramsName) + ".";
-  auto* actor = GetActorAs<DeformableActor>(handle, prefix + std::string(actorField), error);
+  auto* actor = GetActorAs<NodalActor>(handle, prefix + std::string(actorField), error);
   if (!actor) return nullptr;
   if (node < 0 || node >= actor->GetNumNodes()) {
     error.Set(ErrorCode::InvalidArgument, prefix + std::string(nodeField) + " must be in [0, " +
@@ -309,7 +324,7 @@ Constraint* Scene::CreateRigidPivotRotationConstraint(RigidPivotRotationConstrai
 Constraint* Scene::CreateDeformableNodePositionConstraint(
     DeformableNodePositionConstraintParams const& p, Error& error) {
   constexpr std::string_view kParams = "DeformableNodePositionConstraintParams";
-  DeformableActor* a = GetDeformableNode(p.actor, p.nodeIndex, kParams, "actor", "nodeIndex", error);
+  NodalActor* a = GetDeformableNode(p.actor, p.nodeIndex, kParams, "actor", "nodeIndex", error);
   if (!a || !CheckField(p.position, kParams, "position", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<DeformableNodePositionConstraint>(a, p));
@@ -318,9 +333,9 @@ Constraint* Scene::CreateDeformableNodePositionConstraint(
 Constraint* Scene::CreateDeformableNodeToDeformableNodeConstraint(
     DeformableNodeToDeformableNodeConstraintParams const& p, Error& error) {
   constexpr std::string_view kParams = "DeformableNodeToDeformableNodeConstraintParams";
-  DeformableActor* a = GetDeformableNode(p.actorA, p.nodeIndexA, kParams, "actorA", "nodeIndexA", error);
+  NodalActor* a = GetDeformableNode(p.actorA, p.nodeIndexA, kParams, "actorA", "nodeIndexA", error);
   if (!a) return nullptr;
-  DeformableActor* b = GetDeformableNode(p.actorB, p.nodeIndexB, kParams, "actorB", "nodeIndexB", error);
+  NodalActor* b = GetDeformableNode(p.actorB, p.nodeIndexB, kParams, "actorB", "nodeIndexB", error);
   if (!b) return nullptr;
   if (a == b) {
     error.Set(ErrorCode::InvalidArgument, std::string(kParams) +
@@ -336,13 +351,31 @@ Constraint* Scene::CreateDeformableNodeToDeformableNodeConstraint(
 Constraint* Scene::CreateDeformableNodeToRigidConstraint(DeformableNodeToRigidConstraintParams const& p,
                                                          Error& error) {
   constexpr std::string_view kParams = "DeformableNodeToRigidConstraintParams";
-  DeformableActor* d = GetDeformableNode(p.deformableActor, p.deformableNodeIndex, kParams,
+  NodalActor* d = GetDeformableNode(p.deformableActor, p.deformableNodeIndex, kParams,
                                          "deformableActor", "deformableNodeIndex", error);
   if (!d) return nullptr;
   RigidActor* r = GetRigidActor(p.rigidActor, std::string(kParams) + ".rigidActor", error);
   if (!r || !CheckField(p.localPos, kParams, "localPos", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<DeformableNodeToRigidConstraint>(d, r, p));
+}
+
+Constraint* Scene::CreateRodElementRotationToRigidConstraint(
+    RodElementRotationToRigidConstraintParams const& p, Error& error) {
+  constexpr std::string_view kParams = "RodElementRotationToRigidConstraintParams";
+  RigidActor* r = GetRigidActor(p.rigidActor, std::string(kParams) + ".rigidActor", error);
+  if (!r) return nullptr;
+  RodActor* rod = GetActorAs<RodActor>(p.rodActor, std::string(kParams) + ".rodActor", error);
+  if (!rod) return nullptr;
+  if (p.elementIndex < 0 || p.elementIndex >= rod->GetNumElements()) {
+    error.Set(ErrorCode::InvalidArgument, std::string(kParams) + ".elementIndex must be in [0, " +
+                                              std::to_string(rod->GetNumElements()) + "), got " +
+                                              std::to_string(p.elementIndex));
+    return nullptr;
+  }
+  if (!CheckField(p.jointFrame, kParams, "jointFrame", error) || !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<RodElementRotationToRigidConstraint>(r, rod, p));
 }
 
 Constraint* Scene::GetConstraint(ConstraintHandle handle) const { return constraints_.Get(handle); }

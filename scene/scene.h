@@ -14,6 +14,7 @@
 
 #include <superdex/actors/deformable_actor.h>
 #include <superdex/actors/rigid_actor.h>
+#include <superdex/actors/rod_actor.h>
 #include <superdex/constraints/constraint.h>
 #include <superdex/constraints/deformable_node_position.h>
 #include <superdex/constraints/deformable_node_to_deformable_node.h>
@@ -25,6 +26,7 @@
 #include <superdex/constraints/rigid_pivot_to_rigid_target.h>
 #include <superdex/constraints/rigid_prismatic_joint.h>
 #include <superdex/constraints/rigid_spherical_joint.h>
+#include <superdex/constraints/rod_element_rotation_to_rigid.h>
 #include <superdex/core/error.h>
 #include <superdex/core/slot_map.h>
 #include <superdex/scene/scene_params.h>
@@ -52,6 +54,7 @@ class Scene {
   // ---- actors ----
   RigidActor* CreateRigidActor(RigidActorParams const& params, Error& error);
   DeformableActor* CreateDeformableActor(DeformableActorParams const& params, Error& error);
+  RodActor* CreateRodActor(RodActorParams const& params, Error& error);
   /// The actor, or nullptr for a null or stale handle.
   Actor* GetActor(ActorHandle handle) const;
   /// Destroys the actor and every constraint that references it.
@@ -60,7 +63,8 @@ class Scene {
   int GetNumActors() const { return static_cast<int>(actorOrder_.size()); }
 
   // ---- constraints ----
-  // Each factory validates its params (live rigid actors, distinct for two-
+  // The deformable types accept deformable and rod actors alike (a rod node's
+  // first 3 DoFs are its displacement). Each factory validates its params (live rigid actors, distinct for two-
   // actor types; finite vectors; unit quaternions; stiffness and damping
   // finite and >= 0; finite saturation; ordered limits) and returns nullptr
   // with an Error naming the field on bad input.
@@ -84,6 +88,8 @@ class Scene {
       DeformableNodeToDeformableNodeConstraintParams const& params, Error& error);
   Constraint* CreateDeformableNodeToRigidConstraint(
       DeformableNodeToRigidConstraintParams const& params, Error& error);
+  Constraint* CreateRodElementRotationToRigidConstraint(
+      RodElementRotationToRigidConstraintParams const& params, Error& error);
   /// The constraint, or nullptr for a null or stale handle.
   Constraint* GetConstraint(ConstraintHandle handle) const;
   void ForEachConstraint(std::function<void(Constraint&)> const& fn) const;
@@ -121,8 +127,8 @@ class Scene {
   RigidActor* GetRigidActor(ActorHandle handle, std::string_view field, Error& error) const {
     return GetActorAs<RigidActor>(handle, field, error);
   }
-  /// A live deformable actor and a node index in range, or nullptr.
-  DeformableActor* GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
+  /// A live deformable or rod actor and a node index in range, or nullptr.
+  NodalActor* GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
                                      std::string_view actorField, std::string_view nodeField,
                                      Error& error) const;
   /// Two live, distinct rigid actors for `actorA`/`actorB` of `params`.

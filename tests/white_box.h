@@ -72,6 +72,8 @@ struct ActorTestAccess {
   static void ApplyIncrementFromSaved(Actor& a, Span<real const> delta, real alpha) {
     a.ApplyIncrementFromSaved(delta, alpha);
   }
+  static void EndStage(Actor& a) { a.EndStage(); }
+  static void WriteRigidBodyModes(Actor const& a, Eigen::Ref<MatrixX> modes) { a.WriteRigidBodyModes(modes); }
 };
 
 }  // namespace superdex::internal

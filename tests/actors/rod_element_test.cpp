@@ -1,0 +1,314 @@
+// The rod's element kernels (actors/rod_element.h) and the rod actor's
+// assembled stage derivatives against central differences: stretching,
+// bending–twisting (gradient from energy differences, the exact Hessian from
+// differences of the analytic gradient), the material frame's angular
+// Jacobian and its rigid-rotation twist, on near-straight and strongly bent
+// stencils with the stage reference frames held fixed, as the solver holds them.
+#include "test_support.h"
+#include "white_box.h"
+
+#include <Eigen/Eigenvalues>
+#include <random>
+
+using namespace superdex;
+using namespace superdex::test;
+using internal::ActorTestAccess;
+
+namespace {
+
+using Vector11 = internal::Vector11;
+using Matrix11 = internal::Matrix11;
+
+/// A reference frame with tangent `tangent` turned by `tilt` about `axis`
+/// (the stage-start tangent of an element that has moved since) and director
+/// at angle `spin` about it.
+internal::RodReferenceFrame TiltedFrame(Real3 const& tangent, Real3 const& axis, real tilt, real spin) {
+  Real3 const t = (Eigen::AngleAxis<real>(tilt, axis.normalized()) * tangent.normalized()).normalized();
+  Real3 const any = std::abs(t.x()) < 0.9 ? Real3::UnitX() : Real3::UnitY();
+  Real3 const u0 = (any - any.dot(t) * t).normalized();
+  return {t, Eigen::AngleAxis<real>(spin, t) * u0};
+}
+
+struct Stencil {
+  char const* name;
+  Real3 edgeA, edgeB;
+  real thetaA, thetaB;
+};
+
+// edge vectors and twists: near-straight (1e-3 rad kink) to a 150° turn
+Stencil const kStencils[] = {
+    {"straight", Real3(1.0, 0, 0), Real3(0.9, 0, 0), 0, 0},
+    {"near-straight", Real3(1.0, 0.0005, -0.0003), Real3(0.9, 0.0011, 0.0007), 0.002, -0.001},
+    {"bent 75°", Real3(0.8, 0.1, 0.0), Real3(0.3, 0.8, 0.4), 0.7, -0.4},
+    {"bent 150°", Real3(1.1, 0.0, 0.2), Real3(-0.8, 0.5, 0.2), -1.2, 2.1},
+};
+
+internal::RodStiffness const kStiffness{50.0, 2.0, 3.5, 1.5};
+
+/// Energy of the stencil as a function of its 11 DoFs [x₀, θ₀, x₁, θ₁, x₂].
+struct StencilFunction {
+  internal::RodStencilRest rest;
+  internal::RodReferenceFrame refA, refB;
+  real refTwistStart;
+
+  static void Split(Vector11 const& q, Real3& edgeA, Real3& edgeB, real& thetaA, real& thetaB) {
+    edgeA = q.segment<3>(4) - q.segment<3>(0);
+    edgeB = q.segment<3>(8) - q.segment<3>(4);
+    thetaA = q[3];
+    thetaB = q[7];
+  }
+  real Energy(Vector11 const& q) const {
+    Real3 a, b;
+    real ta, tb;
+    Split(q, a, b, ta, tb);
+    return internal::RodBendTwistEnergy(kStiffness, rest, a, b, ta, tb, refA, refB, refTwistStart);
+  }
+  void GradientHessian(Vector11 const& q, Vector11& g, Matrix11& h, bool project) const {
+    Real3 a, b;
+    real ta, tb;
+    Split(q, a, b, ta, tb);
+    internal::RodBendTwistGradientHessian(kStiffness, rest, a, b, ta, tb, refA, refB, refTwistStart, g, h,
+                                          project);
+  }
+};
+
+Vector11 StencilDofs(Stencil const& s) {
+  Vector11 q;
+  q << 0.1, -0.2, 0.3, s.thetaA, Real3(0.1, -0.2, 0.3) + s.edgeA, s.thetaB, Real3(0.1, -0.2, 0.3) + s.edgeA + s.edgeB;
+  return q;
+}
+
+}  // namespace
+
+TEST_CASE("rod bending-twisting energy: gradient and exact Hessian match central differences",
+          "[actors][rod][derivatives]") {
+  Stencil const s = GENERATE(from_range(std::begin(kStencils), std::end(kStencils)));
+  bool const naturalCurvature = GENERATE(false, true);
+  CAPTURE(s.name, naturalCurvature);
+  StencilFunction f;
+  // stage frames tilted away from the current tangents by 0.15–0.2 rad: the
+  // transport term is exercised
+  f.refA = TiltedFrame(s.edgeA, Real3(0.3, 1, -0.2), 0.2, 0.4);
+  f.refB = TiltedFrame(s.edgeB, Real3(-1, 0.2, 0.5), 0.15, -1.1);
+  f.refTwistStart = internal::RodReferenceTwist(s.edgeA, s.edgeB, f.refA, f.refB, 0);
+  f.rest.voronoiLength = 0.95;
+  f.rest.strain = naturalCurvature ? Real3(0.3, -0.2, 0.1) : Real3::Zero();
+  Vector11 const q = StencilDofs(s);
+
+  Vector11 g;
+  Matrix11 h;
+  f.GradientHessian(q, g, h, false);
+  REQUIRE(std::abs(f.Energy(q) - internal::RodBendTwistEnergy(kStiffness, f.rest, s.edgeA, s.edgeB, s.thetaA,
+                                                              s.thetaB, f.refA, f.refB, f.refTwistStart)) <=
+          1e-14 * std::max<real>(f.Energy(q), 1));
+
+  real const eps = 1e-6;
+  Vector11 fdGradient;
+  Matrix11 fdHessian;
+  for (int j = 0; j < 11; ++j) {
+    Vector11 plus = q, minus = q;
+    plus[j] += eps;
+    minus[j] -= eps;
+    fdGradient[j] = (f.Energy(plus) - f.Energy(minus)) / (2 * eps);
+    Vector11 gPlus, gMinus;
+    Matrix11 unused;
+    f.GradientHessian(plus, gPlus, unused, false);
+    f.GradientHessian(minus, gMinus, unused, false);
+    fdHessian.col(j) = (gPlus - gMinus) / (2 * eps);
+  }
+  real const gScale = g.lpNorm<Eigen::Infinity>(), hScale = h.lpNorm<Eigen::Infinity>();
+  CAPTURE(gScale, hScale);
+  // the check is not vacuous: the gradient vanishes only in the straight,
+  // untwisted stencil without natural curvature; the Hessian never does
+  if (naturalCurvature || std::string(s.name) != "straight") REQUIRE(gScale > 1e-3);
+  REQUIRE(hScale > 1);
+  // central differences: truncation ε²·E‴ ~ 1e-12·O(1e2), round-off 1e-16·E/ε ~ 1e-9
+  REQUIRE((g - fdGradient).lpNorm<Eigen::Infinity>() <= 1e-6 * std::max<real>(gScale, 1));
+  REQUIRE((h - fdHessian).lpNorm<Eigen::Infinity>() <= 1e-6 * hScale);
+  REQUIRE((h - h.transpose()).lpNorm<Eigen::Infinity>() <= 1e-12 * hScale);
+  // translation invariance: the gradient has no net force
+  REQUIRE((g.segment<3>(0) + g.segment<3>(4) + g.segment<3>(8)).norm() <= 1e-12 * std::max<real>(gScale, 1));
+
+  // the projected Hessian is PSD and equals the exact one where that is PSD
+  Vector11 gp;
+  Matrix11 hp;
+  f.GradientHessian(q, gp, hp, true);
+  REQUIRE(gp == g);
+  Eigen::SelfAdjointEigenSolver<Matrix11> projected(hp), exact(h);
+  CAPTURE(exact.eigenvalues().transpose());
+  REQUIRE(projected.eigenvalues().minCoeff() >= -1e-12 * hScale);
+  if (exact.eigenvalues().minCoeff() >= 0) REQUIRE((hp - h).lpNorm<Eigen::Infinity>() <= 1e-10 * hScale);
+}
+
+TEST_CASE("rod stretching: gradient and Hessian match central differences", "[actors][rod][derivatives]") {
+  real const stretch = GENERATE(0.7, 1.0, 1.3);  // compressed, at rest length, stretched
+  CAPTURE(stretch);
+  real const restLength = 0.8, stiffness = 40;
+  Real3 const xa(0.2, -0.1, 0.4), direction = Real3(0.3, -0.5, 0.8).normalized();
+  internal::Vector6 q;
+  q << xa, xa + stretch * restLength * direction;
+  auto energy = [&](internal::Vector6 const& x) {
+    return internal::RodStretchEnergy(stiffness, restLength, x.tail<3>() - x.head<3>());
+  };
+  internal::Vector6 g;
+  internal::Matrix6 h;
+  internal::RodStretchGradientHessian(stiffness, restLength, q.tail<3>() - q.head<3>(), g, h, false);
+  real const eps = 1e-6;
+  internal::Vector6 fdGradient;
+  internal::Matrix6 fdHessian;
+  for (int j = 0; j < 6; ++j) {
+    internal::Vector6 plus = q, minus = q;
+    plus[j] += eps;
+    minus[j] -= eps;
+    fdGradient[j] = (energy(plus) - energy(minus)) / (2 * eps);
+    internal::Vector6 gp, gm;
+    internal::Matrix6 unused;
+    internal::RodStretchGradientHessian(stiffness, restLength, plus.tail<3>() - plus.head<3>(), gp, unused, false);
+    internal::RodStretchGradientHessian(stiffness, restLength, minus.tail<3>() - minus.head<3>(), gm, unused, false);
+    fdHessian.col(j) = (gp - gm) / (2 * eps);
+  }
+  real const hScale = h.lpNorm<Eigen::Infinity>();
+  REQUIRE(hScale > 1);
+  REQUIRE((g - fdGradient).lpNorm<Eigen::Infinity>() <= 1e-7 * std::max<real>(g.lpNorm<Eigen::Infinity>(), 1));
+  REQUIRE((h - fdHessian).lpNorm<Eigen::Infinity>() <= 1e-7 * hScale);
+  if (stretch != 1) REQUIRE(g.norm() > 1);
+  internal::Matrix6 hp;
+  internal::RodStretchGradientHessian(stiffness, restLength, q.tail<3>() - q.head<3>(), g, hp, true);
+  REQUIRE(Eigen::SelfAdjointEigenSolver<internal::Matrix6>(hp).eigenvalues().minCoeff() >= -1e-12 * hScale);
+}
+
+TEST_CASE("rod material frame: orthonormal, angular Jacobian matches central differences",
+          "[actors][rod][derivatives]") {
+  Stencil const s = GENERATE(from_range(std::begin(kStencils), std::end(kStencils)));
+  CAPTURE(s.name);
+  internal::RodReferenceFrame const ref = TiltedFrame(s.edgeB, Real3(0.2, -0.4, 1), 0.3, 0.8);
+  Real3 const xa(0.3, 0.1, -0.2);
+  Eigen::Matrix<real, 8, 1> q;
+  q << xa, s.thetaA, xa + s.edgeB, 0.9;  // the second twist must not act
+  auto frame = [&](Eigen::Matrix<real, 8, 1> const& x) {
+    return internal::RodMaterialFrame(x.segment<3>(4) - x.segment<3>(0), ref, x[3]);
+  };
+  Real33 const r = frame(q);
+  REQUIRE((r.transpose() * r - Real33::Identity()).norm() < 1e-14);
+  REQUIRE(std::abs(r.determinant() - 1) < 1e-14);
+  REQUIRE((r.col(2) - s.edgeB.normalized()).norm() < 1e-15);
+
+  internal::Matrix38 const jacobian = internal::RodMaterialFrameJacobian(s.edgeB, ref);
+  real const eps = 1e-6;
+  internal::Matrix38 fd;
+  for (int j = 0; j < 8; ++j) {
+    Eigen::Matrix<real, 8, 1> plus = q, minus = q;
+    plus[j] += eps;
+    minus[j] -= eps;
+    // R(q + ε e_j) R(q − ε e_j)ᵀ = Exp(2ε ω_j) + O(ε³)
+    fd.col(j) = Log(Quat(frame(plus) * frame(minus).transpose())) / (2 * eps);
+  }
+  CAPTURE(jacobian, fd);
+  REQUIRE(jacobian.lpNorm<Eigen::Infinity>() > 0.5);
+  REQUIRE((jacobian - fd).lpNorm<Eigen::Infinity>() <= 1e-8);
+  REQUIRE(jacobian.col(7).isZero());
+
+  // a rigid rotation ω of the element turns its material frame by ω when the
+  // twist changes by RodTwistUnderRotation
+  Real3 const omega(0.3, -0.7, 0.5);
+  real const twistRate = internal::RodTwistUnderRotation(s.edgeB, ref, omega);
+  Real3 const rotated = Log(Quat(internal::RodMaterialFrame(Exp(eps * omega) * s.edgeB, ref, s.thetaA + eps * twistRate) *
+                                 internal::RodMaterialFrame(Exp(-eps * omega) * s.edgeB, ref, s.thetaA - eps * twistRate)
+                                     .transpose())) /
+                        (2 * eps);
+  REQUIRE((rotated - omega).norm() <= 1e-8);
+}
+
+TEST_CASE("parallel transport of a director: unit, normal to the new tangent, identity for no turn",
+          "[actors][rod]") {
+  Real3 const a = Real3(0.2, 0.9, -0.3).normalized();
+  Real3 const u = (Real3::UnitX() - Real3::UnitX().dot(a) * a).normalized();
+  for (Real3 const& bRaw : {Real3(0.2, 0.9, -0.3), Real3(1, 0, 0), Real3(-0.5, 0.1, 0.9), Real3(0.1, -0.8, 0.5)}) {
+    Real3 const b = bRaw.normalized();
+    Real3 const moved = internal::TransportDirector(a, b, u);
+    REQUIRE(std::abs(moved.norm() - 1) < 1e-14);
+    REQUIRE(std::abs(moved.dot(b)) < 1e-14);
+    // the rotation about a × b: the component along a × b is unchanged
+    Real3 const axis = a.cross(b);
+    if (axis.norm() > 1e-12) REQUIRE(std::abs(moved.dot(axis) - u.dot(axis)) < 1e-14);
+  }
+  REQUIRE((internal::TransportDirector(a, a, u) - u).norm() < 1e-15);
+}
+
+TEST_CASE("the rod actor's assembled stage gradient and Hessian match finite differences",
+          "[actors][rod][derivatives]") {
+  // a helix-like polyline with natural curvature and twist, moving, displaced
+  // and twisted off its stage start; reference frames one step old
+  RodActorParams p;
+  int const numNodes = 9;
+  for (int i = 0; i < numNodes; ++i)
+    p.nodes.push_back(Real3(0.3 * std::cos(0.5 * i), 0.3 * std::sin(0.5 * i), 0.12 * i));
+  p.radius = 0.05;
+  p.youngModulus = 1e5;
+  p.poissonRatio = 0.3;
+  p.density = 500;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<real> jitter(-1, 1);
+  for (int i = 0; i < numNodes; ++i) p.initialVelocities.push_back(Real3(jitter(rng), jitter(rng), jitter(rng)));
+  for (int e = 0; e + 1 < numNodes; ++e) p.materialDirectors.push_back(Real3(jitter(rng), jitter(rng), jitter(rng)));
+  SceneParams sceneParams;
+  auto scene = MakeScene(sceneParams);
+  Error error;
+  RodActor* rod = scene->CreateRodActor(p, error);
+  INFO(error.ToString());
+  REQUIRE(rod);
+  int const n = rod->GetNumDofs();
+  REQUIRE(n == 4 * numNodes);
+
+  real const h = 1e-2;
+  // one stage moves the frames on (they are transported at its end)
+  ActorTestAccess::BeginStage(*rod, internal::MakeStage(IntegratorType::BackwardEuler, h, false), Real3(0, 0, -9.81));
+  ActorTestAccess::EndStage(*rod);
+  ActorTestAccess::BeginStage(*rod, internal::MakeStage(IntegratorType::Bdf2, h, true), Real3(0, 0, -9.81));
+  DynamicArray<real> offset(n);
+  for (real& v : offset) v = 0.02 * jitter(rng);
+  ActorTestAccess::SaveIterate(*rod);
+  ActorTestAccess::ApplyIncrementFromSaved(*rod, offset, 1);
+
+  DynamicArray<DynamicArray<int>> contributors;
+  DynamicArray<int> blocks;
+  ActorTestAccess::AppendContributorDofs(*rod, contributors);
+  ActorTestAccess::AppendDofBlockSizes(*rod, blocks);
+  REQUIRE(blocks == DynamicArray<int>(numNodes, 4));
+  internal::HessianAssembler assembler;
+  REQUIRE(assembler.Analyze(n, blocks, contributors, OrderingMethod::Metis, error));
+  DynamicArray<real> gradient(n, 0);
+  assembler.ZeroValues();
+  ActorTestAccess::AddGradientAndHessian(*rod, gradient, assembler, 0, false);
+  MatrixX const hessian = DenseNaturalHessian(assembler);
+
+  real const eps = 1e-6;
+  ActorTestAccess::SaveIterate(*rod);
+  DynamicArray<real> delta(n, 0);
+  VectorX fdGradient(n);
+  MatrixX fdHessian(n, n);
+  for (int j = 0; j < n; ++j) {
+    DynamicArray<real> gPlus(n, 0), gMinus(n, 0);
+    delta[j] = eps;
+    ActorTestAccess::ApplyIncrementFromSaved(*rod, delta, 1);
+    real const plus = ActorTestAccess::Energy(*rod);
+    assembler.ZeroValues();
+    ActorTestAccess::AddGradientAndHessian(*rod, gPlus, assembler, 0, false);
+    ActorTestAccess::ApplyIncrementFromSaved(*rod, delta, -1);
+    real const minus = ActorTestAccess::Energy(*rod);
+    assembler.ZeroValues();
+    ActorTestAccess::AddGradientAndHessian(*rod, gMinus, assembler, 0, false);
+    delta[j] = 0;
+    fdGradient[j] = (plus - minus) / (2 * eps);
+    for (int i = 0; i < n; ++i) fdHessian(i, j) = (gPlus[i] - gMinus[i]) / (2 * eps);
+  }
+  ActorTestAccess::RestoreIterate(*rod);
+  VectorX const analytic = Eigen::Map<VectorX const>(gradient.data(), n);
+  real const gScale = analytic.lpNorm<Eigen::Infinity>(), hScale = hessian.lpNorm<Eigen::Infinity>();
+  CAPTURE(gScale, hScale);
+  REQUIRE(gScale > 1e-2);
+  REQUIRE((analytic - fdGradient).lpNorm<Eigen::Infinity>() <= 1e-6 * gScale);
+  REQUIRE((hessian - fdHessian).lpNorm<Eigen::Infinity>() <= 1e-6 * hScale);
+  // the twist DoFs are coupled to the positions (bending–twisting stencils)
+  REQUIRE(std::abs(hessian(3, 4)) + std::abs(hessian(3, 8)) > 0);
+}
