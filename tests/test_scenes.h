@@ -100,4 +100,53 @@ inline DynamicArray<Constraint*> PinNodes(Scene& scene, DeformableActor& actor, 
   return pins;
 }
 
+/// A straight rod of `numElements` elements from `start` along `direction`
+/// (length `length`), with the section and material of `p` (nodes replaced).
+inline RodActor* MakeStraightRod(Scene& scene, Real3 const& start, Real3 const& direction, real length,
+                                 int numElements, RodActorParams p) {
+  p.nodes.clear();
+  for (int i = 0; i <= numElements; ++i)
+    p.nodes.push_back(start + (length * i / numElements) * direction.normalized());
+  Error error;
+  RodActor* rod = scene.CreateRodActor(p, error);
+  INFO(error.ToString());
+  REQUIRE(rod);
+  return rod;
+}
+
+/// The two constraints of a rod end clamped to a rigid body.
+struct RodClamp {
+  Constraint* position = nullptr;  ///< DeformableNodeToRigid on the end node
+  Constraint* rotation = nullptr;  ///< RodElementRotationToRigid on the end element
+};
+
+/// Clamps the rod's first (`atEnd` false) or last end to `body` at their
+/// current relative pose: DeformableNodeToRigid on the end node plus
+/// RodElementRotationToRigid on the end element, stiffnesses `linear` [N/m]
+/// and `angular` [N·m/rad]; both register the ConstraintForce query.
+inline RodClamp ClampRodEnd(Scene& scene, RodActor& rod, RigidActor& body, bool atEnd, real linear,
+                            real angular) {
+  Error error;
+  RodClamp clamp;
+  DeformableNodeToRigidConstraintParams node;
+  node.deformableActor = rod.GetHandle();
+  node.rigidActor = body.GetHandle();
+  node.deformableNodeIndex = atEnd ? rod.GetNumNodes() - 1 : 0;
+  node.stiffness = linear;
+  clamp.position = scene.CreateDeformableNodeToRigidConstraint(node, error);
+  INFO(error.ToString());
+  REQUIRE(clamp.position);
+  RodElementRotationToRigidConstraintParams frame;
+  frame.rigidActor = body.GetHandle();
+  frame.rodActor = rod.GetHandle();
+  frame.elementIndex = atEnd ? rod.GetNumElements() - 1 : 0;
+  frame.stiffness = angular;
+  clamp.rotation = scene.CreateRodElementRotationToRigidConstraint(frame, error);
+  INFO(error.ToString());
+  REQUIRE(clamp.rotation);
+  REQUIRE(clamp.position->RegisterQuery(QueryType::ConstraintForce, error));
+  REQUIRE(clamp.rotation->RegisterQuery(QueryType::ConstraintForce, error));
+  return clamp;
+}
+
 }  // namespace superdex::test
