@@ -81,17 +81,45 @@ S ReferenceTwist(ElementFrame<S> const& a, ElementFrame<S> const& b, real start)
   return angle + kTwoPi * std::round((start - ValueOf(angle)) / kTwoPi);
 }
 
+/// (κ₁, κ₂, m) from the two elements' frames and twists.
 template <class S>
-Vec3<S> StencilStrain(Vec3<S> const& edgeA, Vec3<S> const& edgeB, S const& thetaA, S const& thetaB,
-                      RodReferenceFrame const& refA, RodReferenceFrame const& refB, real refTwistStart) {
-  ElementFrame<S> const a = MakeFrame(edgeA, refA, thetaA);
-  ElementFrame<S> const b = MakeFrame(edgeB, refB, thetaB);
+Vec3<S> StrainFromFrames(ElementFrame<S> const& a, ElementFrame<S> const& b, S const& thetaA, S const& thetaB,
+                         real refTwistStart) {
   S const scale = 2 / (1 + Dot(a.t, b.t));
   Vec3<S> const binormal = Cross(a.t, b.t);  // κb / scale
   S const half = 0.5 * scale;
   S const one = 1;
   return {half * Dot(binormal, Combine(one, a.d1, one, b.d1)), half * Dot(binormal, Combine(one, a.d2, one, b.d2)),
           thetaB - thetaA + ReferenceTwist(a, b, refTwistStart)};
+}
+
+template <class S>
+Vec3<S> StencilStrain(Vec3<S> const& edgeA, Vec3<S> const& edgeB, S const& thetaA, S const& thetaB,
+                      RodReferenceFrame const& refA, RodReferenceFrame const& refB, real refTwistStart) {
+  return StrainFromFrames(MakeFrame(edgeA, refA, thetaA), MakeFrame(edgeB, refB, thetaB), thetaA, thetaB,
+                          refTwistStart);
+}
+
+/// A jet over an element's 4 variables (e, θ) as a jet over the stencil's 8,
+/// the element's variables at `index` (e at index[0..2], θ at index[3]).
+Jet<8> Lift(Jet<4> const& x, std::array<int, 4> const& index) {
+  Jet<8> y(x.value);
+  for (int i = 0; i < 4; ++i) {
+    y.gradient[index[i]] = x.gradient[i];
+    for (int j = 0; j < 4; ++j) y.hessian(index[i], index[j]) = x.hessian(i, j);
+  }
+  return y;
+}
+
+/// An element's frame with derivatives w.r.t. its own (e, θ), lifted to the stencil's variables.
+ElementFrame<Jet<8>> ElementFrameJet(Real3 const& edge, RodReferenceFrame const& ref, real theta,
+                                     std::array<int, 4> const& index) {
+  using J4 = Jet<4>;
+  ElementFrame<J4> const f =
+      MakeFrame(Vec3<J4>{J4::Variable(edge[0], 0), J4::Variable(edge[1], 1), J4::Variable(edge[2], 2)}, ref,
+                J4::Variable(theta, 3));
+  auto lift = [&index](Vec3<J4> const& v) { return Vec3<Jet<8>>{Lift(v[0], index), Lift(v[1], index), Lift(v[2], index)}; };
+  return {lift(f.t), lift(f.u), lift(f.d1), lift(f.d2)};
 }
 
 template <class S>
@@ -195,12 +223,14 @@ void RodBendTwistGradientHessian(RodStiffness const& k, RodStencilRest const& re
                                  Real3 const& edgeB, real thetaA, real thetaB, RodReferenceFrame const& refA,
                                  RodReferenceFrame const& refB, real refTwistStart, Vector11& gradient,
                                  Matrix11& hessian, bool project) {
+  // each element's frame depends on its own 4 variables only: differentiate
+  // it over those (cheap 4-variable jets), then lift to the stencil's 8
   using J = Jet<8>;
-  Vec3<J> const a = {J::Variable(edgeA[0], 0), J::Variable(edgeA[1], 1), J::Variable(edgeA[2], 2)};
-  Vec3<J> const b = {J::Variable(edgeB[0], 3), J::Variable(edgeB[1], 4), J::Variable(edgeB[2], 5)};
   J const energy = BendTwistEnergyFromStrain<J>(
       k, rest,
-      StencilStrain(a, b, J::Variable(thetaA, 6), J::Variable(thetaB, 7), refA, refB, refTwistStart));
+      StrainFromFrames(ElementFrameJet(edgeA, refA, thetaA, {0, 1, 2, 6}),
+                       ElementFrameJet(edgeB, refB, thetaB, {3, 4, 5, 7}), J::Variable(thetaA, 6),
+                       J::Variable(thetaB, 7), refTwistStart));
   Eigen::Matrix<real, 8, 8> h8 = energy.hessian;
   if (project) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix<real, 8, 8>> eigen(h8);
