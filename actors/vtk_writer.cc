@@ -1,4 +1,6 @@
 #include <superdex/actors/vtk_writer.h>
+
+#include <superdex/actors/rod_actor.h>
 #include <superdex/core/validate.h>
 
 #include <cerrno>
@@ -278,6 +280,32 @@ bool WriteVtuPolylines(std::string const& path, DynamicArray<Real3> const& point
   };
   return WriteFileAtomically(path, VtuText(points, polylines.size(), forEachCell, pointData, {}),
                              error);
+}
+
+bool WriteRodsVtu(std::string const& path, DynamicArray<RodActor const*> const& rods,
+                  DynamicArray<VtkPointData> const& extra, Error& error) {
+  DynamicArray<Real3> points;
+  DynamicArray<DynamicArray<int>> polylines;
+  DynamicArray<VtkPointData> data{{"twist", 1, {}}, {"d1", 3, {}}, {"d2", 3, {}}, {"tangent", 3, {}},
+                                  {"velocity", 3, {}}};
+  for (std::size_t r = 0; r < rods.size(); ++r) {
+    RodActor const* rod = rods[r];
+    if (!rod) return Fail(ErrorCode::InvalidArgument, "rods[" + std::to_string(r) + "] is null", error);
+    DynamicArray<int>& line = polylines.emplace_back();
+    for (int i = 0; i < rod->GetNumNodes(); ++i) {
+      int const element = std::min(i, rod->GetNumElements() - 1);
+      Real33 const frame = rod->GetMaterialFrame(element);
+      line.push_back(static_cast<int>(points.size()));
+      points.push_back(rod->GetNodePosition(i));
+      data[0].values.push_back(rod->GetTwist(element));
+      for (int column = 0; column < 3; ++column)
+        for (int k = 0; k < 3; ++k) data[1 + column].values.push_back(frame(k, column));
+      Real3 const v = rod->GetNodeVelocity(i);
+      data[4].values.insert(data[4].values.end(), v.data(), v.data() + 3);
+    }
+  }
+  data.insert(data.end(), extra.begin(), extra.end());
+  return WriteVtuPolylines(path, points, polylines, data, error);
 }
 
 VtkSeries::VtkSeries(std::string pvdPath) : pvdPath_(std::move(pvdPath)) {}

@@ -21,6 +21,8 @@
 
 namespace superdex {
 
+class RodActor;
+
 /// VTK cell type ids.
 inline constexpr int kVtkPolyLine = 4;
 inline constexpr int kVtkTriangle = 5;
@@ -61,6 +63,15 @@ bool WriteVtu(std::string const& path, DynamicArray<Real3> const& points,
 bool WriteVtuPolylines(std::string const& path, DynamicArray<Real3> const& points,
                        DynamicArray<DynamicArray<int>> const& polylines,
                        DynamicArray<VtkPointData> const& pointData, Error& error);
+
+/// Rods (RodActor) as polylines: one VTK_POLY_LINE per rod through its nodes'
+/// world positions, rods in the given order, and per point: "twist" θ [rad]
+/// and the material frame "d1", "d2", "tangent" of the element starting at
+/// the node (the last node repeats its rod's last element), "velocity",
+/// then the `extra` arrays (values for every point of every rod). Rods must
+/// be non-null; otherwise as WriteVtuPolylines.
+bool WriteRodsVtu(std::string const& path, DynamicArray<RodActor const*> const& rods,
+                  DynamicArray<VtkPointData> const& extra, Error& error);
 
 /// A .pvd collection of frames for a time series:
 ///

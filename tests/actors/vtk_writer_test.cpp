@@ -207,6 +207,56 @@ TEST_CASE("WriteVtuPolylines: one VTK_POLY_LINE per index list", "[actors][vtk][
   REQUIRE_FALSE(fs::exists(bad));
 }
 
+TEST_CASE("WriteRodsVtu: each rod a polyline with its twist and material frame as point data",
+          "[actors][vtk][io][rod]") {
+  TempDir dir;
+  auto scene = MakeScene();
+  Error error;
+  RodActorParams p;
+  p.nodes = {Real3(0, 0, 0), Real3(0.1, 0, 0), Real3(0.2, 0.05, 0)};
+  p.materialDirector = Real3(0, 0, 1);
+  RodActor* a = scene->CreateRodActor(p, error);
+  p.nodes = {Real3(0, 1, 0), Real3(0, 1, 0.2)};
+  p.materialDirector = Real3(1, 0, 0);
+  RodActor* b = scene->CreateRodActor(p, error);
+  REQUIRE(a);
+  REQUIRE(b);
+  std::string const path = dir / "rods.vtu";
+  VtkPointData const extra{"id", 1, {0, 0, 0, 1, 1}};
+  REQUIRE(WriteRodsVtu(path, {a, b}, {extra}, error));
+  std::string const xml = ReadText(path);
+  REQUIRE(Attribute(xml, "Piece", "NumberOfPoints") == "5");
+  REQUIRE(FindArray(xml, "Cells", "connectivity").values == std::vector<double>{0, 1, 2, 3, 4});
+  REQUIRE(FindArray(xml, "Cells", "types").values == std::vector<double>{kVtkPolyLine, kVtkPolyLine});
+  REQUIRE(FindArray(xml, "Points", "").values ==
+          Flatten({a->GetNodePosition(0), a->GetNodePosition(1), a->GetNodePosition(2), b->GetNodePosition(0),
+                   b->GetNodePosition(1)}));
+  REQUIRE(FindArray(xml, "PointData", "twist").values == std::vector<double>(5, 0.0));
+  // node i carries element min(i, last)'s frame; rod a's first element is
+  // along x with d1 = z, rod b's along z with d1 = x
+  std::vector<double> const d1 = FindArray(xml, "PointData", "d1").values;
+  std::vector<double> const tangent = FindArray(xml, "PointData", "tangent").values;
+  REQUIRE(d1.size() == 15);
+  for (int i = 0; i < 5; ++i) {
+    RodActor const* rod = i < 3 ? a : b;
+    int const element = std::min(i < 3 ? i : i - 3, rod->GetNumElements() - 1);
+    Real33 const frame = rod->GetMaterialFrame(element);
+    for (int k = 0; k < 3; ++k) {
+      REQUIRE(d1[3 * i + k] == frame(k, 0));
+      REQUIRE(tangent[3 * i + k] == frame(k, 2));
+    }
+  }
+  REQUIRE(d1[2] == 1.0);
+  REQUIRE(d1[9] == 1.0);
+  REQUIRE(FindArray(xml, "PointData", "id").values == std::vector<double>{0, 0, 0, 1, 1});
+  // a null rod, or extra data of the wrong size: nothing written
+  std::string const bad = dir / "bad.vtu";
+  REQUIRE_FALSE(WriteRodsVtu(bad, {a, nullptr}, {}, error));
+  REQUIRE(Mentions(error, "rods[1] is null"));
+  REQUIRE_FALSE(WriteRodsVtu(bad, {a}, {extra}, error));
+  REQUIRE_FALSE(fs::exists(bad));
+}
+
 TEST_CASE("WriteVtu rejects bad input, writes nothing and keeps an earlier file",
           "[actors][vtk][input]") {
   TempDir dir;
