@@ -10,6 +10,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+VTK_POLY_LINE = 4
 VTK_TRIANGLE = 5
 VTK_TETRA = 10
 _NODES = {VTK_TRIANGLE: 3, VTK_TETRA: 4}
@@ -50,6 +51,29 @@ def read_vtu(path, cell_type):
         k = int(array.get("NumberOfComponents", "1"))
         data[array.get("Name")] = values(array).reshape(-1, k).squeeze()
     return points, kept.reshape(-1, n), data
+
+
+def read_polylines(path):
+    """points (n×3), the polylines (a list of index arrays) and the point
+    arrays (name → n×k) of an ASCII .vtu of polylines (WriteRodsVtu)."""
+    piece = ET.parse(path).getroot().find("UnstructuredGrid/Piece")
+
+    def values(array, dtype=float):
+        return np.array(array.text.split(), dtype=dtype)
+
+    points = values(piece.find("Points/DataArray")).reshape(-1, 3)
+    cells = {a.get("Name"): a for a in piece.find("Cells")}
+    connectivity = values(cells["connectivity"], int)
+    offsets = values(cells["offsets"], int)
+    types = values(cells["types"], int)
+    starts = np.concatenate([[0], offsets[:-1]])
+    lines = [connectivity[s:e] for s, e, t in zip(starts, offsets, types) if t == VTK_POLY_LINE]
+    data = {}
+    point_data = piece.find("PointData")
+    for array in [] if point_data is None else point_data:
+        k = int(array.get("NumberOfComponents", "1"))
+        data[array.get("Name")] = values(array).reshape(-1, k).squeeze()
+    return points, lines, data
 
 
 def front_faces(tets, reference):
