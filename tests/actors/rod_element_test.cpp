@@ -312,3 +312,45 @@ TEST_CASE("the rod actor's assembled stage gradient and Hessian match finite dif
   // the twist DoFs are coupled to the positions (bending–twisting stencils)
   REQUIRE(std::abs(hessian(3, 4)) + std::abs(hessian(3, 8)) > 0);
 }
+
+TEST_CASE("the rod's rigid-body modes span the null space of its elastic Hessian at rest",
+          "[actors][rod]") {
+  // a helix with natural twist at rest: its elastic energy is zero and
+  // stationary, so H·(rigid motion) = 0 (with dt = 1e6 s the inertia term's
+  // weight 1/dt² = 1e-12 is negligible)
+  RodActorParams p;
+  for (int i = 0; i < 8; ++i) p.nodes.push_back(Real3(0.3 * std::cos(0.6 * i), 0.3 * std::sin(0.6 * i), 0.1 * i));
+  for (int e = 0; e < 7; ++e) p.materialDirectors.push_back(Real3(std::sin(1.3 * e), 1, std::cos(0.7 * e)));
+  p.radius = 0.02;
+  p.youngModulus = 1e6;
+  SceneParams sceneParams;
+  sceneParams.gravity = Real3::Zero();
+  auto scene = MakeScene(sceneParams);
+  Error error;
+  RodActor* rod = scene->CreateRodActor(p, error);
+  REQUIRE(rod);
+  int const n = rod->GetNumDofs();
+  ActorTestAccess::BeginStage(*rod, internal::MakeStage(IntegratorType::BackwardEuler, 1e6, false), Real3::Zero());
+  DynamicArray<DynamicArray<int>> contributors;
+  DynamicArray<int> blocks;
+  ActorTestAccess::AppendContributorDofs(*rod, contributors);
+  ActorTestAccess::AppendDofBlockSizes(*rod, blocks);
+  internal::HessianAssembler assembler;
+  REQUIRE(assembler.Analyze(n, blocks, contributors, OrderingMethod::Natural, error));
+  DynamicArray<real> gradient(n, 0);
+  assembler.ZeroValues();
+  ActorTestAccess::AddGradientAndHessian(*rod, gradient, assembler, 0, false);
+  MatrixX const hessian = DenseNaturalHessian(assembler);
+  MatrixX modes = MatrixX::Zero(n, 6);
+  ActorTestAccess::WriteRigidBodyModes(*rod, modes);
+  // rotations turn the twists too (a twist-free mode would not be in the null space)
+  REQUIRE(modes.bottomRows(n - 4).col(3).cwiseAbs().maxCoeff() > 0);
+  real const scale = hessian.lpNorm<Eigen::Infinity>() * modes.lpNorm<Eigen::Infinity>();
+  REQUIRE(scale > 1);
+  CAPTURE((hessian * modes).lpNorm<Eigen::Infinity>() / scale);
+  REQUIRE((hessian * modes).lpNorm<Eigen::Infinity>() <= 1e-9 * scale);
+  // and without the twist rows the rotations are not null motions
+  MatrixX withoutTwist = modes;
+  for (int i = 0; i < rod->GetNumNodes(); ++i) withoutTwist.row(4 * i + 3).setZero();
+  REQUIRE((hessian * withoutTwist).rightCols<3>().lpNorm<Eigen::Infinity>() > 1e-5 * scale);
+}
