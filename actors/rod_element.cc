@@ -35,6 +35,10 @@ Vec3<S> Cross(Vec3<S> const& a, Vec3<S> const& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 template <class S>
+Vec3<S> Sum(Vec3<S> const& x, Vec3<S> const& y) {
+  return {x[0] + y[0], x[1] + y[1], x[2] + y[2]};
+}
+template <class S>
 Vec3<S> Combine(S const& a, Vec3<S> const& x, S const& b, Vec3<S> const& y) {
   return {a * x[0] + b * y[0], a * x[1] + b * y[1], a * x[2] + b * y[2]};
 }
@@ -69,11 +73,11 @@ ElementFrame<S> MakeFrame(Vec3<S> const& edge, RodReferenceFrame const& ref, S c
 }
 
 /// m_ref: the angle about t_b from P(tₐ→t_b) uₐ to u_b, on the branch
-/// nearest `start`.
+/// nearest `start`; `onePlusCos` = 1 + tₐ·t_b.
 template <class S>
-S ReferenceTwist(ElementFrame<S> const& a, ElementFrame<S> const& b, real start) {
+S ReferenceTwist(ElementFrame<S> const& a, ElementFrame<S> const& b, S const& onePlusCos, real start) {
   using std::atan2;
-  S const s = Dot(b.t, a.u) / (1 + Dot(a.t, b.t));
+  S const s = Dot(b.t, a.u) / onePlusCos;
   Vec3<S> const p = {a.u[0] - s * (a.t[0] + b.t[0]), a.u[1] - s * (a.t[1] + b.t[1]),
                      a.u[2] - s * (a.t[2] + b.t[2])};
   S const angle = atan2(Dot(Cross(p, b.u), b.t), Dot(p, b.u));
@@ -85,12 +89,11 @@ S ReferenceTwist(ElementFrame<S> const& a, ElementFrame<S> const& b, real start)
 template <class S>
 Vec3<S> StrainFromFrames(ElementFrame<S> const& a, ElementFrame<S> const& b, S const& thetaA, S const& thetaB,
                          real refTwistStart) {
-  S const scale = 2 / (1 + Dot(a.t, b.t));
-  Vec3<S> const binormal = Cross(a.t, b.t);  // κb / scale
-  S const half = 0.5 * scale;
-  S const one = 1;
-  return {half * Dot(binormal, Combine(one, a.d1, one, b.d1)), half * Dot(binormal, Combine(one, a.d2, one, b.d2)),
-          thetaB - thetaA + ReferenceTwist(a, b, refTwistStart)};
+  S const onePlusCos = 1 + Dot(a.t, b.t);
+  S const half = 1 / onePlusCos;             // ½ κb = binormal / (1 + tₐ·t_b)
+  Vec3<S> const binormal = Cross(a.t, b.t);
+  return {half * Dot(binormal, Sum(a.d1, b.d1)), half * Dot(binormal, Sum(a.d2, b.d2)),
+          thetaB - thetaA + ReferenceTwist(a, b, onePlusCos, refTwistStart)};
 }
 
 template <class S>
@@ -189,8 +192,9 @@ Real3 RodStencilStrain(Real3 const& edgeA, Real3 const& edgeB, real thetaA, real
 
 real RodReferenceTwist(Real3 const& edgeA, Real3 const& edgeB, RodReferenceFrame const& refA,
                        RodReferenceFrame const& refB, real refTwistStart) {
-  return ReferenceTwist(MakeFrame(ToVec3<real>(edgeA), refA, 0.0), MakeFrame(ToVec3<real>(edgeB), refB, 0.0),
-                        refTwistStart);
+  ElementFrame<real> const a = MakeFrame(ToVec3<real>(edgeA), refA, 0.0);
+  ElementFrame<real> const b = MakeFrame(ToVec3<real>(edgeB), refB, 0.0);
+  return ReferenceTwist(a, b, 1 + Dot(a.t, b.t), refTwistStart);
 }
 
 real RodStretchEnergy(real stiffness, real restLength, Real3 const& edge) {
