@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <numbers>
 
 #include "run.h"
 
@@ -46,6 +47,49 @@ constexpr int kClothNewtonMaxIterations = 300;
 // joint of N = 200 carries ~2 kN and stretches ~2 mm).
 constexpr real kLinkLength = 0.1, kLinkSide = 0.02, kLinkMass = 1;
 constexpr real kJointStiffness = 1e6;
+
+// ---- rods: a bundle of discrete elastic rods clamped to a rigid plate ----
+// R straight rods of N nodes (size "RxN"), length 1 m, along +x from the
+// plate face x = 0, released horizontally at rest: each droops and swings
+// under gravity like a cantilever, a large deflection at stiffness ratio 1.
+// Circular section r = 5 mm; E = 1e8 Pa × ratio (a soft polymer, e.g.
+// low-density polyethylene ~2e8 Pa), ν = 0.3, ρ = 1000 kg/m³. The load
+// parameter γ = ρgAL³/(EI) = 4ρgL³/(E r²) is ~16 at ratio 1 (large
+// deflection: linear theory's tip drop γL/8 would be 2 L, so the rod is far
+// into the nonlinear range and Newton has work at every step; first bending
+// period ~2.3 s), 0.16 at ratio 100 (2 % of L) and 1.6e-3 at ratio 1e4.
+constexpr real kRodLength = 1;      // [m]
+constexpr real kRodRadius = 5e-3;   // [m]
+constexpr real kRodYoung = 1e8;     // [Pa] at stiffness ratio 1
+constexpr real kRodDensity = 1000;  // [kg/m³]
+// Attachment points: a cols × rows grid (cols = ceil(√R), rows = ceil(R/cols))
+// in the plate face (y–z plane), centred on the x axis, pitch 4 radii (a
+// 10 × 10 bundle spans 0.18 m). Rods do not interact (no contact); rods of one
+// column droop in one plane.
+constexpr real kRodSpacing = 4 * kRodRadius;
+// The clamp of each rod (ClampRodEnd in tests/test_scenes.h): a
+// DeformableNodeToRigid on node 0 and a RodElementRotationToRigid on element
+// 0, at kRodClampFactor = 1e3 times the stiffest the rod is next to them, for
+// this size's element length l = L/(N − 1):
+//   linear  k = 1e3 · max(EA/l, 12 EI/l³)   [N/m]    (stretching; a beam
+//           element's transverse stiffness, which wins for l < √3 r: N > 116)
+//   angular k = 1e3 · max(4 EI/l, GJ/l)     [N·m/rad] (a beam element's end
+//           rotation stiffness; GJ = EI/(1 + ν) < 4EI, so 4EI/l)
+// Both are proportional to E, so the clamp is 1e3 times stiffer than the rod
+// next to it at every size and stiffness ratio, with the same conditioning
+// penalty everywhere (at 100x250, ratio 1: 9.1e9 N/m and 4.9e4 N·m/rad; the
+// root carries the rod's weight 0.77 N and a moment ≤ 0.39 N·m, so the clamp
+// gives way by < 1e-9 m and < 1e-5 rad).
+constexpr real kRodClampFactor = 1e3;
+// The plate: 1 kg, 1 cm thick, square with side cols · pitch, behind the face
+// x = 0, held by a RigidPivotToRigidTarget and a RigidPivotRotation (tests'
+// Anchor) of 1e9 N/m and 1e9 N·m/rad. They carry the bundle's weight and
+// inertia, which do not depend on E (not scaled): at 100x250 the rods weigh
+// 77 N with a moment ≤ 39 N·m, so the plate moves < 1e-7 m and turns
+// < 1e-7 rad; the rods' inertia against a plate motion, R·m/dt² ~ 3e4 N/m at
+// dt = 1/60, is ~3e4 times softer than the anchor.
+constexpr real kPlateMass = 1, kPlateThickness = 0.01;
+constexpr real kPlateAnchorStiffness = 1e9;
 
 constexpr real kPoisson = 0.3;
 constexpr int kDefaultNewtonMaxIterations = 50;
@@ -164,6 +208,84 @@ bool BuildChain(Cells const& cells, double ratio, FamilyScene& out, Error& error
   return true;
 }
 
+/// R = cells[0] rods of N = cells[1] nodes (see the constants above).
+bool BuildRods(Cells const& cells, double ratio, FamilyScene& out, Error& error) {
+  int const numRods = cells[0], numNodes = cells[1];
+  if (numNodes < 2) {
+    error.Set(ErrorCode::InvalidArgument, "rods need at least 2 nodes each (RxN, N >= 2)");
+    return false;
+  }
+  int const cols = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(numRods))));
+  int const rows = (numRods + cols - 1) / cols;
+  Scene& scene = *out.scene;
+
+  // the plate and its anchor
+  real const side = cols * kRodSpacing, thickness2 = kPlateThickness * kPlateThickness;
+  RigidActorParams plateParams;
+  plateParams.mass = kPlateMass;
+  plateParams.inertia =
+      kPlateMass / 12 * Real3(2 * side * side, side * side + thickness2, side * side + thickness2);
+  plateParams.position = Real3(-kPlateThickness / 2, 0, 0);
+  RigidActor* plate = scene.CreateRigidActor(plateParams, error);
+  if (!plate) return false;
+  RigidPivotToRigidTargetConstraintParams hold;
+  hold.actor = plate->GetHandle();
+  hold.position = plate->GetPosition();
+  hold.rotation = plate->GetRotation();
+  hold.stiffness = kPlateAnchorStiffness;
+  if (!scene.CreateRigidPivotToRigidTargetConstraint(hold, error)) return false;
+  RigidPivotRotationConstraintParams turn;
+  turn.actor = plate->GetHandle();
+  turn.rotation = plate->GetRotation();
+  turn.stiffness = kPlateAnchorStiffness;
+  if (!scene.CreateRigidPivotRotationConstraint(turn, error)) return false;
+
+  // the rods and their clamps
+  RodActorParams rod;
+  rod.radius = kRodRadius;
+  rod.youngModulus = kRodYoung * ratio;
+  rod.poissonRatio = kPoisson;
+  rod.density = kRodDensity;
+  real const pi = std::numbers::pi_v<real>;
+  real const area = pi * kRodRadius * kRodRadius, inertia = area * kRodRadius * kRodRadius / 4;
+  real const element = kRodLength / (numNodes - 1);
+  real const ea = rod.youngModulus * area, ei = rod.youngModulus * inertia;
+  real const gj = rod.youngModulus / (2 * (1 + kPoisson)) * 2 * inertia;
+  real const linear =
+      kRodClampFactor * std::max(ea / element, 12 * ei / (element * element * element));
+  real const angular = kRodClampFactor * std::max(4 * ei / element, gj / element);
+  auto const rods = std::make_shared<DynamicArray<RodActor*>>();
+  for (int k = 0; k < numRods; ++k) {
+    real const y = (k / cols - (rows - 1) / 2.0) * kRodSpacing;
+    real const z = (k % cols - (cols - 1) / 2.0) * kRodSpacing;
+    rod.nodes.clear();
+    for (int i = 0; i < numNodes; ++i) rod.nodes.push_back(Real3(i * element, y, z));
+    RodActor* actor = scene.CreateRodActor(rod, error);
+    if (!actor) return false;
+    rods->push_back(actor);
+    DeformableNodeToRigidConstraintParams node;
+    node.deformableActor = actor->GetHandle();
+    node.rigidActor = plate->GetHandle();
+    node.deformableNodeIndex = 0;
+    node.stiffness = linear;
+    if (!scene.CreateDeformableNodeToRigidConstraint(node, error)) return false;
+    RodElementRotationToRigidConstraintParams frame;
+    frame.rigidActor = plate->GetHandle();
+    frame.rodActor = actor->GetHandle();
+    frame.elementIndex = 0;
+    frame.stiffness = angular;
+    if (!scene.CreateRodElementRotationToRigidConstraint(frame, error)) return false;
+  }
+  out.length = kRodLength;
+  out.trackedPositions = [rods] {
+    DynamicArray<Real3> positions;
+    for (RodActor const* actor : *rods)
+      for (int i = 0; i < actor->GetNumNodes(); ++i) positions.push_back(actor->GetNodePosition(i));
+    return positions;
+  };
+  return true;
+}
+
 struct Family {
   std::string_view name;
   std::string_view sizePrefix;  ///< before the counts: "N=" for the chain
@@ -176,13 +298,15 @@ struct Family {
   bool (*build)(Cells const&, double, FamilyScene&, Error&);
 };
 
-std::array<Family, 3> const kFamilies{{
+std::array<Family, 4> const kFamilies{{
     {"cantilever", "", 3, "40x8x8", "E", kBeamYoung, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return 3 * (c[0] + 1) * (c[1] + 1) * (c[2] + 1); }, BuildCantilever},
     {"cloth", "", 2, "32x32", "E", kClothYoung, kClothNewtonMaxIterations,
      [](Cells const& c) { return 3 * (c[0] + 1) * (c[1] + 1); }, BuildCloth},
     {"chain", "N=", 1, "N=50", "k", kJointStiffness, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return RigidActor::kNumDofs * c[0]; }, BuildChain},
+    {"rods", "", 2, "100x250", "E", kRodYoung, kDefaultNewtonMaxIterations,
+     [](Cells const& c) { return 4 * c[0] * c[1] + RigidActor::kNumDofs; }, BuildRods},
 }};
 
 Family const* FindFamily(std::string_view name) {
@@ -196,7 +320,7 @@ Family const* Resolve(std::string const& family, std::string const& size, Cells&
                       std::string& message) {
   Family const* f = FindFamily(family);
   if (!f) {
-    message = "unknown family '" + family + "' (cantilever, cloth, chain)";
+    message = "unknown family '" + family + "' (cantilever, cloth, chain, rods)";
     return nullptr;
   }
   if (!ParseCounts(size, f->sizePrefix, 'x', f->numCounts, cells)) {

@@ -6,6 +6,8 @@
 //   cantilever  tetrahedral beam 1 × 0.2 × 0.2 m, size "NXxNYxNZ" (cells)
 //   cloth       pinned shell sheet 1 × 1 m, size "NxN" (quads)
 //   chain       rigid boxes joined by spherical joints, size "N=50" (bodies)
+//   rods        R discrete elastic rods of N nodes, 1 m, clamped to an
+//               anchored rigid plate, size "RxN" (DoFs 4·R·N + 6)
 //
 // The parameters of each family are documented in families.cc and in
 // perf/harness/README.md.

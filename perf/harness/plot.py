@@ -173,10 +173,11 @@ def short_reason(reason):
                           ("nonfinite", "non-finite"), ("non-finite", "non-finite")):
         if needle in low:
             return short
-    tail = reason.split(":")[-1].strip() or reason.strip() or "failed"
+    # the last part's first word: "KSP_DIVERGED_ITS after 200 iterations, ..."
+    tail = (reason.split(":")[-1].strip() or reason.strip() or "failed").split()[0]
     for prefix in ("KSP_", "PC_", "SNES_"):
         tail = tail[len(prefix):] if tail.startswith(prefix) else tail
-    return tail[:14]
+    return tail[:19]
 
 
 def save(fig, out, name, written):

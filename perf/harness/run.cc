@@ -23,8 +23,9 @@ std::vector<SpecOption> const& SpecOptions() {
   static std::vector<SpecOption> const options{
       {"--suite", "NAME", "suite label of the row (default run)", &RunSpec::suite},
       {"--study", "NAME", "scaling, work_precision, stability, bullet, reference", &RunSpec::study},
-      {"--family", "NAME", "cantilever, cloth, chain (default cantilever)", &RunSpec::family},
-      {"--size", "LABEL", "40x8x8 (cantilever), 32x32 (cloth), N=50 (chain)", &RunSpec::size},
+      {"--family", "NAME", "cantilever, cloth, chain, rods (default cantilever)", &RunSpec::family},
+      {"--size", "LABEL", "40x8x8 (cantilever), 32x32 (cloth), N=50 (chain), 100x250 (rods)",
+       &RunSpec::size},
       {"--stiffness-ratio", "R", "times the base stiffness (default 1)", &RunSpec::stiffnessRatio},
       {"--method", "LABEL", "solver configuration, below (default cholmod)", &RunSpec::method},
       {"--integrator", "be|bdf2", "time integrator (default be)", &RunSpec::integrator},

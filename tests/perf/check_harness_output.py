@@ -1,8 +1,8 @@
 """Checks a perf harness output folder after `superdex_perf --suite tiny` and
-`plot.py`: the CSV has exactly the documented columns in order and at least one
-row per study, every run of the tiny suite succeeded (except stability cells,
-whose failures are data), the JSON has one object per CSV row, and every chart
-is a non-empty PNG.
+`plot.py`: the CSV has exactly the documented columns in order, at least one
+row per study and a scaling row per family, every run of the tiny suite
+succeeded (except stability cells, whose failures are data), the JSON has one
+object per CSV row, and every chart is a non-empty PNG.
 
 usage: check_harness_output.py OUT_DIR
 """
@@ -19,6 +19,8 @@ COLUMNS = (
     "peak_rss_mb error reference status reason"
 ).split()
 STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference")
+# every family of the harness (perf/harness/families.cc) has scaling runs in the tiny suite
+FAMILIES = ("cantilever", "cloth", "chain", "rods")
 CHARTS = ("scaling.png", "phases.png", "work_precision_cantilever.png", "stability_cantilever.png")
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -45,6 +47,9 @@ def main():
     for study in STUDIES:
         if not any(r["study"] == study for r in rows):
             fail(f"no row of study '{study}'")
+    for family in FAMILIES:
+        if not any(r["study"] == "scaling" and r["family"] == family for r in rows):
+            fail(f"no scaling row of family '{family}'")
     for r in rows:
         if r["study"] != "stability" and r["status"] != "ok":
             fail(f"run failed: {r['family']} {r['size']} {r['method']}: {r['reason']}")
