@@ -306,10 +306,16 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
         SUPERDEX_PETSC(PCBJacobiSetTotalBlocks(pc, static_cast<PetscInt>(lengths.size()), lengths.data()));
       SUPERDEX_PETSC(setDefault("-sub_pc_type", "icc"));
       SUPERDEX_PETSC(setDefault("-sub_pc_factor_levels", std::to_string(params_.iccLevels)));
+      SUPERDEX_PETSC(setDefault("-sub_pc_factor_mat_ordering_type", MATORDERINGRCM));
       break;
     }
     case PcgPreconditioner::Icc:
       SUPERDEX_PETSC(PCFactorSetLevels(pc, params_.iccLevels));
+      // ICC on the assembler's METIS (nested-dissection) order is weak: RCM
+      // keeps the incomplete factor's dropped fill small. CG iterations over
+      // a run, natural vs RCM: beam 40x8x8 1057 vs 635, cloth 24x24 1805 vs
+      // 704, rods 16x100 26004 vs 11, chain N=50 249 vs 10
+      SUPERDEX_PETSC(PCFactorSetMatOrderingType(pc, MATORDERINGRCM));
       break;
     case PcgPreconditioner::Gamg:
       SUPERDEX_PETSC(PCGAMGSetReuseInterpolation(pc, params_.reuseAmgInterpolation ? PETSC_TRUE
