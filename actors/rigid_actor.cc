@@ -80,105 +80,33 @@ void RigidActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists
   dofLists.push_back(std::move(dofs));
 }
 
-namespace internal {
-Real3 SolveMomentumConservingRotation(Real3 const& inertia, Real3 const& omega, real h) {
-  // f(x) = Exp(h x) I x − I Ω; J_f = Exp(h x)(I − h Hat(I x) J_r(h x))
-  Real3 const momentum = inertia.asDiagonal() * omega;
-  real const scale = momentum.norm();
-  if (scale == 0) return Real3::Zero();
-  Real3 x = omega;
-  auto residual = [&](Real3 const& y) -> Real3 {
-    return ExpMatrix(h * y) * (inertia.asDiagonal() * y) - momentum;
-  };
-  Real3 f = residual(x);
-  for (int iteration = 0; iteration < 30 && f.norm() > 1e-15 * scale; ++iteration) {
-    Real33 const rotation = ExpMatrix(h * x);
-    Real33 const jacobian =
-        rotation * (Real33(inertia.asDiagonal()) - h * Hat(inertia.asDiagonal() * x) * RightJacobian(h * x));
-    Real3 const step = jacobian.partialPivLu().solve(-f);
-    // damped: halve the step until the residual decreases
-    real alpha = 1;
-    Real3 trial = x + step;
-    Real3 fTrial = residual(trial);
-    while (fTrial.norm() >= f.norm() && alpha > 1e-6) {
-      alpha *= 0.5;
-      trial = x + alpha * step;
-      fTrial = residual(trial);
-    }
-    if (fTrial.norm() >= f.norm()) break;
-    x = trial;
-    f = fTrial;
-  }
-  return x;
-}
-}  // namespace internal
 
 void RigidActor::BeginStage(internal::StageCoefficients const& requested, Real3 const& gravity) {
   stage_ = (requested.usesHistory && !state_.hasHistory)
                ? internal::MakeStage(IntegratorType::BackwardEuler, requested.duration, false)
                : requested;
-  internal::StageCoefficients const& stage = stage_;
-  real const h = stage.duration;
-  real const betaH = stage.beta * h;
-  Quat const& rotation = state_.rotation;
-  Quat const rotationT = rotation.conjugate();
-  stageStartPosition_ = state_.position;
-  stageStartRotation_ = rotation;
   gravity_ = gravity;
-  weight_ = stage.InertiaWeight();
-
-  // translation target Δ̂ = c Δₚ + β h (a vⁿ + b vⁿ⁻¹)
-  Real3 velocity = stage.aVelocity * state_.linearVelocity;
-  previousStageOffset_.setZero();
-  if (stage.usesHistory) {
-    velocity += stage.bVelocity * state_.previousLinearVelocity;
-    previousStageOffset_ = state_.previousPosition - state_.position;
-  }
-  targetTranslation_ = stage.cPrevious * previousStageOffset_ + betaH * velocity;
-
-  // rotation target in the body frame at stage start
-  Real3 const bodyOmega = rotationT * state_.angularVelocity;
-  previousRotationOffset_.setZero();
-  if (stage.usesHistory) {
-    Real3 const bodyOmegaPrevious = rotationT * state_.previousAngularVelocity;
-    previousRotationOffset_ = Log(rotationT * state_.previousRotation);
-    Real3 const omegaMix = stage.aVelocity * bodyOmega + stage.bVelocity * bodyOmegaPrevious;
-    Real3 const omegaExtrapolated = 2 * bodyOmega - bodyOmegaPrevious;
-    Real3 const gyroscopic = omegaExtrapolated.cross(inertia_.asDiagonal() * omegaExtrapolated);
-    targetRotation_ = stage.cPrevious * previousRotationOffset_ + betaH * omegaMix -
-                      betaH * betaH * inertia_.cwiseInverse().asDiagonal() * gyroscopic;
-  } else {
-    targetRotation_ = betaH * internal::SolveMomentumConservingRotation(inertia_, bodyOmega, betaH);
-  }
-}
-
-Real3 RigidActor::StageRotation() const {
-  return Log(stageStartRotation_.conjugate() * state_.rotation);
+  inertiaStage_.Begin(stage_, mass_, inertia_, state_);
 }
 
 real RigidActor::Energy() const {
-  Real3 const dt = state_.position - stageStartPosition_ - targetTranslation_;
-  Real3 const dr = StageRotation() - targetRotation_;
-  return 0.5 * weight_ * (mass_ * dt.squaredNorm() + dr.dot(inertia_.asDiagonal() * dr)) -
-         mass_ * gravity_.dot(state_.position);
+  return inertiaStage_.Energy(state_.position, state_.rotation) - mass_ * gravity_.dot(state_.position);
 }
 
 void RigidActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
                                        int firstContributor, bool /*projectHessian*/) const {
-  // the rigid inertia block is PSD by construction: nothing to project
-  Real3 const phi = StageRotation();
-  // dφ/dδθ = J_l⁻¹(φ) Rⁿᵀ
-  Real33 const dPhi = LeftJacobianInverse(phi) * stageStartRotation_.conjugate().toRotationMatrix();
-  Real3 const gradTranslation =
-      weight_ * mass_ * (state_.position - stageStartPosition_ - targetTranslation_) - mass_ * gravity_;
-  Real3 const gradRotation = dPhi.transpose() * (weight_ * (inertia_.asDiagonal() * (phi - targetRotation_)));
+  // the rigid inertia block is PSD by construction (its rotation block is the
+  // Gauss–Newton one): nothing to project
+  Real3 force, torque;
+  inertiaStage_.Gradient(state_.position, state_.rotation, force, torque);
+  force -= mass_ * gravity_;
   for (int i = 0; i < 3; ++i) {
-    gradient[dofOffset_ + i] += gradTranslation[i];
-    gradient[dofOffset_ + 3 + i] += gradRotation[i];
+    gradient[dofOffset_ + i] += force[i];
+    gradient[dofOffset_ + 3 + i] += torque[i];
   }
   Eigen::Matrix<real, 6, 6> hessian = Eigen::Matrix<real, 6, 6>::Zero();
-  hessian.topLeftCorner<3, 3>().diagonal().setConstant(weight_ * mass_);
-  hessian.bottomRightCorner<3, 3>() = weight_ * dPhi.transpose() * inertia_.asDiagonal() * dPhi;
+  hessian.topLeftCorner<3, 3>().diagonal().setConstant(inertiaStage_.TranslationStiffness());
+  hessian.bottomRightCorner<3, 3>() = inertiaStage_.RotationHessianGaussNewton(state_.rotation);
   assembler.AddBlock(firstContributor, hessian);
 }
 
@@ -203,20 +131,7 @@ bool RigidActor::IsStateFinite() const {
   return state_.position.allFinite() && state_.rotation.coeffs().allFinite();
 }
 
-void RigidActor::EndStage() {
-  internal::StageCoefficients const& stage = stage_;
-  real const betaH = stage.beta * stage.duration;
-  Real3 const velocity =
-      (state_.position - stageStartPosition_ - stage.cPrevious * previousStageOffset_) / betaH;
-  Real3 const bodyOmega = (StageRotation() - stage.cPrevious * previousRotationOffset_) / betaH;
-  state_.previousPosition = stageStartPosition_;
-  state_.previousRotation = stageStartRotation_;
-  state_.previousLinearVelocity = state_.linearVelocity;
-  state_.previousAngularVelocity = state_.angularVelocity;
-  state_.hasHistory = true;
-  state_.linearVelocity = velocity;
-  state_.angularVelocity = stageStartRotation_ * bodyOmega;
-}
+void RigidActor::EndStage() { inertiaStage_.End(state_.position, state_.rotation, state_); }
 
 void RigidActor::SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const {
   auto* own = dynamic_cast<Snapshot*>(snapshot.get());

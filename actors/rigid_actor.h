@@ -16,6 +16,7 @@
 #pragma once
 
 #include <superdex/actors/actor.h>
+#include <superdex/actors/rigid_inertia.h>
 #include <superdex/core/error.h>
 #include <superdex/scene/integrator.h>
 
@@ -61,14 +62,7 @@ class RigidActor final : public Actor {
  private:
   RigidActor() : Actor(ActorType::Rigid, kNumDofs) {}
 
-  struct State {
-    Real3 position, linearVelocity, angularVelocity;
-    Quat rotation;
-    // integrator history (previous step's committed state)
-    bool hasHistory = false;
-    Real3 previousPosition, previousLinearVelocity, previousAngularVelocity;
-    Quat previousRotation;
-  };
+  using State = internal::RigidBodyMotion;
   struct Snapshot final : internal::ActorSnapshot {
     State state;
   };
@@ -88,30 +82,18 @@ class RigidActor final : public Actor {
   void SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const override;
   void RestoreSnapshot(internal::ActorSnapshot const& snapshot) override;
 
-  /// Body-frame stage rotation φ = Log(Rⁿᵀ R).
-  Real3 StageRotation() const;
-
   real mass_ = 1;
   Real3 inertia_ = Real3::Ones();
   State state_;
 
   // stage data (scratch, rebuilt by BeginStage)
-  Real3 stageStartPosition_, targetTranslation_, gravity_;
-  Quat stageStartRotation_;
-  Real3 targetRotation_;        ///< φ̂, body frame at stage start
-  Real3 previousStageOffset_;   ///< Δₚ for translation
-  Real3 previousRotationOffset_;///< Δₚ for rotation (body frame)
-  real weight_ = 0;
   internal::StageCoefficients stage_;  ///< effective coefficients of this stage
+  internal::RigidInertiaStage inertiaStage_;
+  Real3 gravity_ = Real3::Zero();
   // line-search iterate
   Real3 savedPosition_;
   Quat savedRotation_;
 };
 
-namespace internal {
-/// Ω̂ with Exp(h Ω̂) I_b Ω̂ = I_b Ω (torque-free rotation that keeps the
-/// angular momentum vector). Newton from Ω; returns Ω̂.
-Real3 SolveMomentumConservingRotation(Real3 const& inertia, Real3 const& bodyAngularVelocity, real h);
-}  // namespace internal
 
 }  // namespace superdex

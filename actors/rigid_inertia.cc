@@ -1,0 +1,157 @@
+#include <superdex/actors/rigid_inertia.h>
+
+#include <array>
+#include <cmath>
+
+#include <superdex/core/jet.h>
+
+namespace superdex::internal {
+
+void RigidInertiaStage::Begin(StageCoefficients const& stage, real mass, Real3 const& inertia,
+                              RigidBodyMotion const& motion) {
+  stage_ = stage;
+  mass_ = mass;
+  inertia_ = inertia;
+  real const betaH = stage.beta * stage.duration;
+  Quat const rotationT = motion.rotation.conjugate();
+  startPosition_ = motion.position;
+  startRotation_ = motion.rotation;
+  weight_ = stage.InertiaWeight();
+
+  // translation target Δ̂ = c Δₚ + β h (a vⁿ + b vⁿ⁻¹)
+  Real3 velocity = stage.aVelocity * motion.linearVelocity;
+  previousOffset_.setZero();
+  if (stage.usesHistory) {
+    velocity += stage.bVelocity * motion.previousLinearVelocity;
+    previousOffset_ = motion.previousPosition - motion.position;
+  }
+  targetTranslation_ = stage.cPrevious * previousOffset_ + betaH * velocity;
+
+  // rotation target in the body frame at the stage start
+  Real3 const bodyOmega = rotationT * motion.angularVelocity;
+  previousRotationOffset_.setZero();
+  if (stage.usesHistory) {
+    Real3 const bodyOmegaPrevious = rotationT * motion.previousAngularVelocity;
+    previousRotationOffset_ = Log(rotationT * motion.previousRotation);
+    Real3 const omegaMix = stage.aVelocity * bodyOmega + stage.bVelocity * bodyOmegaPrevious;
+    Real3 const omegaExtrapolated = 2 * bodyOmega - bodyOmegaPrevious;
+    Real3 const gyroscopic = omegaExtrapolated.cross(inertia.asDiagonal() * omegaExtrapolated);
+    targetRotation_ = stage.cPrevious * previousRotationOffset_ + betaH * omegaMix -
+                      betaH * betaH * inertia.cwiseInverse().asDiagonal() * gyroscopic;
+  } else {
+    targetRotation_ = betaH * SolveMomentumConservingRotation(inertia, bodyOmega, betaH);
+  }
+}
+
+real RigidInertiaStage::Energy(Real3 const& position, Quat const& rotation) const {
+  Real3 const dt = position - startPosition_ - targetTranslation_;
+  Real3 const dr = StageRotation(rotation) - targetRotation_;
+  return 0.5 * weight_ * (mass_ * dt.squaredNorm() + dr.dot(inertia_.asDiagonal() * dr));
+}
+
+void RigidInertiaStage::Gradient(Real3 const& position, Quat const& rotation, Real3& force, Real3& torque) const {
+  Real3 const phi = StageRotation(rotation);
+  // dφ/dδθ = J_l⁻¹(φ) Rⁿᵀ
+  Real33 const dPhi = LeftJacobianInverse(phi) * startRotation_.conjugate().toRotationMatrix();
+  force = weight_ * mass_ * (position - startPosition_ - targetTranslation_);
+  torque = dPhi.transpose() * (weight_ * (inertia_.asDiagonal() * (phi - targetRotation_)));
+}
+
+Real33 RigidInertiaStage::RotationHessianGaussNewton(Quat const& rotation) const {
+  Real33 const dPhi = LeftJacobianInverse(StageRotation(rotation)) * startRotation_.conjugate().toRotationMatrix();
+  return weight_ * dPhi.transpose() * inertia_.asDiagonal() * dPhi;
+}
+
+Real33 RigidInertiaStage::RotationHessian(Quat const& rotation) const {
+  // E(u) = ½ w (φ(u) − φ̂)ᵀ I (φ(u) − φ̂), φ(u) = Log(Exp(u) M₀), M₀ = Rⁿᵀ R,
+  // u = Rⁿᵀ δθ; to second order at u = 0, Exp(u) = I + Û + ½Û². Log by
+  // φ = θ/(2 sin θ) vee(M − Mᵀ), θ = atan2(|vee|/2, (tr M − 1)/2), with the
+  // series θ/sin θ = 1 + θ²/6 near θ = 0 (where |vee| has no derivative).
+  using J = Jet<3>;
+  Real33 const m0 = (startRotation_.conjugate() * rotation).normalized().toRotationMatrix();
+  std::array<J, 3> const u{J::Variable(0, 0), J::Variable(0, 1), J::Variable(0, 2)};
+  // E(u) = I + Û + ½Û², Û = Hat(u)
+  std::array<std::array<J, 3>, 3> hat{};
+  hat[0][1] = -u[2];
+  hat[0][2] = u[1];
+  hat[1][0] = u[2];
+  hat[1][2] = -u[0];
+  hat[2][0] = -u[1];
+  hat[2][1] = u[0];
+  std::array<std::array<J, 3>, 3> e{};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      J sum = (r == c) ? J(1) : J(0);
+      sum = sum + hat[r][c];
+      for (int k = 0; k < 3; ++k) sum = sum + 0.5 * (hat[r][k] * hat[k][c]);
+      e[r][c] = sum;
+    }
+  std::array<std::array<J, 3>, 3> m{};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m[r][c] = e[r][0] * m0(0, c) + e[r][1] * m0(1, c) + e[r][2] * m0(2, c);
+  std::array<J, 3> const vee{m[2][1] - m[1][2], m[0][2] - m[2][0], m[1][0] - m[0][1]};
+  J const trace = m[0][0] + m[1][1] + m[2][2];
+  J const vee2 = vee[0] * vee[0] + vee[1] * vee[1] + vee[2] * vee[2];
+  J factor;  // θ/(2 sin θ)
+  if (vee2.value < 1e-12) {
+    factor = 0.5 + vee2 * (1.0 / 48);  // ½(1 + θ²/6), θ² ≈ sin²θ = |vee|²/4
+  } else {
+    J const sine = 0.5 * sqrt(vee2);
+    factor = atan2(sine, 0.5 * (trace - 1)) / (2 * sine);
+  }
+  J energy;
+  for (int k = 0; k < 3; ++k) {
+    J const d = factor * vee[k] - targetRotation_[k];
+    energy = energy + (0.5 * weight_ * inertia_[k]) * (d * d);
+  }
+  Real33 const rn = startRotation_.toRotationMatrix();
+  return rn * energy.hessian * rn.transpose();
+}
+
+void RigidInertiaStage::End(Real3 const& position, Quat const& rotation, RigidBodyMotion& motion) const {
+  real const betaH = stage_.beta * stage_.duration;
+  Real3 const velocity = (position - startPosition_ - stage_.cPrevious * previousOffset_) / betaH;
+  Real3 const bodyOmega = (StageRotation(rotation) - stage_.cPrevious * previousRotationOffset_) / betaH;
+  motion.previousPosition = startPosition_;
+  motion.previousRotation = startRotation_;
+  motion.previousLinearVelocity = motion.linearVelocity;
+  motion.previousAngularVelocity = motion.angularVelocity;
+  motion.hasHistory = true;
+  motion.position = position;
+  motion.rotation = rotation;
+  motion.linearVelocity = velocity;
+  motion.angularVelocity = startRotation_ * bodyOmega;
+}
+
+Real3 SolveMomentumConservingRotation(Real3 const& inertia, Real3 const& omega, real h) {
+  // f(x) = Exp(h x) I x − I Ω; J_f = Exp(h x)(I − h Hat(I x) J_r(h x))
+  Real3 const momentum = inertia.asDiagonal() * omega;
+  real const scale = momentum.norm();
+  if (scale == 0) return Real3::Zero();
+  Real3 x = omega;
+  auto residual = [&](Real3 const& y) -> Real3 {
+    return ExpMatrix(h * y) * (inertia.asDiagonal() * y) - momentum;
+  };
+  Real3 f = residual(x);
+  for (int iteration = 0; iteration < 30 && f.norm() > 1e-15 * scale; ++iteration) {
+    Real33 const rotation = ExpMatrix(h * x);
+    Real33 const jacobian =
+        rotation * (Real33(inertia.asDiagonal()) - h * Hat(inertia.asDiagonal() * x) * RightJacobian(h * x));
+    Real3 const step = jacobian.partialPivLu().solve(-f);
+    // damped: halve the step until the residual decreases
+    real alpha = 1;
+    Real3 trial = x + step;
+    Real3 fTrial = residual(trial);
+    while (fTrial.norm() >= f.norm() && alpha > 1e-6) {
+      alpha *= 0.5;
+      trial = x + alpha * step;
+      fTrial = residual(trial);
+    }
+    if (fTrial.norm() >= f.norm()) break;
+    x = trial;
+    f = fTrial;
+  }
+  return x;
+}
+
+}  // namespace superdex::internal
