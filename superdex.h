@@ -9,6 +9,7 @@
 #include <superdex/core/types.h>
 
 #include <superdex/actors/actor.h>
+#include <superdex/actors/articulated_actor.h>
 #include <superdex/actors/deformable_actor.h>
 #include <superdex/actors/mesh.h>
 #include <superdex/actors/vtk_writer.h>

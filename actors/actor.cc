@@ -7,6 +7,7 @@ std::string_view ToString(ActorType type) {
     case ActorType::Rigid: return "Rigid";
     case ActorType::Deformable: return "Deformable";
     case ActorType::Rod: return "Rod";
+    case ActorType::Articulated: return "Articulated";
   }
   return "Unknown";
 }

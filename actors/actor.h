@@ -12,7 +12,7 @@ namespace superdex {
 
 class Scene;
 
-enum class ActorType { Rigid, Deformable, Rod };
+enum class ActorType { Rigid, Deformable, Rod, Articulated };
 
 std::string_view ToString(ActorType type);
 

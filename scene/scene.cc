@@ -114,6 +114,14 @@ RodActor* Scene::CreateRodActor(RodActorParams const& params, Error& error) {
   return raw;
 }
 
+ArticulatedActor* Scene::CreateArticulatedActor(ArticulatedActorParams const& params, Error& error) {
+  std::unique_ptr<ArticulatedActor> actor = ArticulatedActor::Create(params, error);
+  if (!actor) return nullptr;
+  ArticulatedActor* raw = actor.get();
+  AddActor(std::move(actor));
+  return raw;
+}
+
 Actor* Scene::GetActor(ActorHandle handle) const { return actors_.Get(handle); }
 
 void Scene::ForEachActor(std::function<void(Actor&)> const& fn) const {

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 
+#include <superdex/actors/articulated_actor.h>
 #include <superdex/actors/deformable_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/actors/rod_actor.h>
@@ -55,6 +56,7 @@ class Scene {
   RigidActor* CreateRigidActor(RigidActorParams const& params, Error& error);
   DeformableActor* CreateDeformableActor(DeformableActorParams const& params, Error& error);
   RodActor* CreateRodActor(RodActorParams const& params, Error& error);
+  ArticulatedActor* CreateArticulatedActor(ArticulatedActorParams const& params, Error& error);
   /// The actor, or nullptr for a null or stale handle.
   Actor* GetActor(ActorHandle handle) const;
   /// Destroys the actor and every constraint that references it.

@@ -3,6 +3,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include <superdex/superdex.h>
 
 namespace superdex::test {
@@ -39,5 +41,17 @@ inline void StepOk(Scene& scene, real dt, int steps = 1) {
 }
 
 inline Real3 ToReal3(DynamicArray<real> const& v) { return {v.at(0), v.at(1), v.at(2)}; }
+
+/// Least-squares slope of log(y) against log(x): the convergence order of
+/// errors y at step sizes x (or the power of any y ∝ xᵖ).
+inline real FitOrder(DynamicArray<real> const& x, DynamicArray<real> const& y) {
+  real sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int const n = static_cast<int>(x.size());
+  for (int i = 0; i < n; ++i) {
+    real const lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
 
 }  // namespace superdex::test

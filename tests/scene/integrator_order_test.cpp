@@ -40,16 +40,6 @@ real ErrorAtEnd(IntegratorType integrator, real dt) {
   return std::sqrt(dx * dx + (dv / omega) * (dv / omega));
 }
 
-// least-squares slope of log(error) against log(dt)
-real FitOrder(DynamicArray<real> const& dts, DynamicArray<real> const& errors) {
-  real sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int const n = static_cast<int>(dts.size());
-  for (int i = 0; i < n; ++i) {
-    real const x = std::log(dts[i]), y = std::log(errors[i]);
-    sx += x, sy += y, sxx += x * x, sxy += x * y;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 }  // namespace
 
 TEST_CASE("backward Euler converges at order 1 and BDF2 at order 2", "[scene][integrator]") {

@@ -1,0 +1,672 @@
+#include <superdex/actors/articulated_actor.h>
+
+#include <cmath>
+
+#include <superdex/assembly/hessian_assembler.h>
+#include <superdex/core/so3.h>
+#include <superdex/core/validate.h>
+
+namespace superdex {
+
+namespace {
+using Matrix6 = Eigen::Matrix<real, 6, 6>;
+using Vector6 = Eigen::Matrix<real, 6, 1>;
+/// Up to 6 spatial columns (one joint's), without heap storage.
+using SpatialColumns = Eigen::Matrix<real, 6, Eigen::Dynamic, 0, 6, 6>;
+
+std::string LinkField(std::size_t link, std::string_view field) {
+  return "ArticulatedActorParams.links[" + std::to_string(link) + "]." + std::string(field);
+}
+
+/// Spatial inertia about the world origin, coordinates (ω, v_O), of a body
+/// whose energy Hessian is `rotation` (3×3, world increments) and w m I
+/// (translation of its centre c): Xᵀ G X with v_c = v_O − Hat(c) ω.
+Matrix6 SpatialStiffness(Real33 const& rotation, real translation, Real3 const& c) {
+  Real33 const hatC = Hat(c);
+  Matrix6 k;
+  k.topLeftCorner<3, 3>() = rotation + translation * hatC.transpose() * hatC;
+  k.topRightCorner<3, 3>() = -translation * hatC.transpose();
+  k.bottomLeftCorner<3, 3>() = -translation * hatC;
+  k.bottomRightCorner<3, 3>() = translation * Real33::Identity();
+  return k;
+}
+}  // namespace
+
+std::string_view ToString(JointType type) {
+  switch (type) {
+    case JointType::Fixed: return "Fixed";
+    case JointType::Revolute: return "Revolute";
+    case JointType::Prismatic: return "Prismatic";
+    case JointType::Spherical: return "Spherical";
+    case JointType::Free: return "Free";
+  }
+  return "Unknown";
+}
+
+int JointDofs(JointType type) {
+  switch (type) {
+    case JointType::Fixed: return 0;
+    case JointType::Revolute:
+    case JointType::Prismatic: return 1;
+    case JointType::Spherical: return 3;
+    case JointType::Free: return 6;
+  }
+  return 0;
+}
+
+std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParams const& params, Error& error) {
+  using namespace internal;
+  int const numLinks = static_cast<int>(params.links.size());
+  if (numLinks < 1) {
+    error.Set(ErrorCode::InvalidArgument, "ArticulatedActorParams.links needs at least one link, got none");
+    return nullptr;
+  }
+  DynamicArray<Link> links(numLinks);
+  int numDofs = 0;
+  for (int i = 0; i < numLinks; ++i) {
+    ArticulatedLinkParams const& p = params.links[i];
+    Link& l = links[i];
+    if (i == 0 ? p.parent != -1 : (p.parent < 0 || p.parent >= i)) {
+      error.Set(ErrorCode::InvalidArgument,
+                LinkField(i, "parent") + (i == 0 ? " must be -1 (the root joint attaches to the world), got "
+                                                 : " must name an earlier link, in [0, " + std::to_string(i) +
+                                                       "), got ") +
+                    std::to_string(p.parent));
+      return nullptr;
+    }
+    int const type = static_cast<int>(p.joint);
+    if (type < static_cast<int>(JointType::Fixed) || type > static_cast<int>(JointType::Free)) {
+      error.Set(ErrorCode::InvalidArgument, LinkField(i, "joint") + " is not a JointType (" + std::to_string(type) + ")");
+      return nullptr;
+    }
+    if (!CheckFinite(p.axis, LinkField(i, "axis"), error) ||
+        !CheckFinite(p.parentToJointPosition, LinkField(i, "parentToJointPosition"), error) ||
+        !CheckUnitQuat(p.parentToJointRotation, LinkField(i, "parentToJointRotation"), error) ||
+        !CheckFinite(p.jointToChildPosition, LinkField(i, "jointToChildPosition"), error) ||
+        !CheckUnitQuat(p.jointToChildRotation, LinkField(i, "jointToChildRotation"), error) ||
+        !CheckPositive(p.mass, LinkField(i, "mass"), error) ||
+        !CheckPositive(p.inertia, LinkField(i, "inertia"), error) ||
+        !CheckFinite(p.centerOfMass, LinkField(i, "centerOfMass"), error) ||
+        !CheckNonNegative(p.armature, LinkField(i, "armature"), error) ||
+        !CheckNonNegative(p.damping, LinkField(i, "damping"), error))
+      return nullptr;
+    if ((p.joint == JointType::Revolute || p.joint == JointType::Prismatic) && !(p.axis.norm() > 1e-12)) {
+      error.Set(ErrorCode::InvalidArgument, LinkField(i, "axis") + " must be non-zero for a " +
+                                                std::string(ToString(p.joint)) + " joint, got " + Format(p.axis));
+      return nullptr;
+    }
+    if (p.joint == JointType::Free && i != 0) {
+      error.Set(ErrorCode::InvalidArgument,
+                LinkField(i, "joint") + " is Free: only the root joint may be free (a floating base)");
+      return nullptr;
+    }
+    int const dofs = JointDofs(p.joint);
+    for (auto const* state : {&p.initialPosition, &p.initialVelocity}) {
+      if (!state->empty() && static_cast<int>(state->size()) != dofs) {
+        error.Set(ErrorCode::InvalidArgument,
+                  LinkField(i, state == &p.initialPosition ? "initialPosition" : "initialVelocity") +
+                      " must be empty or hold " + std::to_string(dofs) + " entries (a " +
+                      std::string(ToString(p.joint)) + " joint), got " + std::to_string(state->size()));
+        return nullptr;
+      }
+      for (real v : *state)
+        if (!std::isfinite(v)) {
+          error.Set(ErrorCode::InvalidArgument,
+                    LinkField(i, state == &p.initialPosition ? "initialPosition" : "initialVelocity") +
+                        " is not finite");
+          return nullptr;
+        }
+    }
+    l.parent = p.parent;
+    l.joint = p.joint;
+    l.axis = p.axis.norm() > 0 ? Real3(p.axis.normalized()) : Real3::UnitZ();
+    l.parentToJointPosition = p.parentToJointPosition;
+    l.parentToJointRotation = p.parentToJointRotation.normalized();
+    l.jointToChildPosition = p.jointToChildPosition;
+    l.jointToChildRotation = p.jointToChildRotation.normalized();
+    l.mass = p.mass;
+    l.inertia = p.inertia;
+    l.centerOfMass = p.centerOfMass;
+    l.armature = p.armature;
+    l.damping = p.damping;
+    l.dofStart = numDofs;
+    l.numDofs = dofs;
+    numDofs += dofs;
+  }
+  if (numDofs == 0) {
+    error.Set(ErrorCode::InvalidArgument,
+              "ArticulatedActorParams.links: every joint is Fixed; an articulated actor needs at least one DoF");
+    return nullptr;
+  }
+
+  std::unique_ptr<ArticulatedActor> actor(new ArticulatedActor(numDofs));
+  ArticulatedActor& a = *actor;
+  a.links_ = std::move(links);
+  State& s = a.state_;
+  s.joints.resize(numLinks);
+  s.jointVelocity = VectorX::Zero(numDofs);
+  for (int i = 0; i < numLinks; ++i) {
+    ArticulatedLinkParams const& p = params.links[i];
+    JointState& q = s.joints[i];
+    Link const& l = a.links_[i];
+    if (!p.initialPosition.empty()) {
+      switch (l.joint) {
+        case JointType::Revolute:
+        case JointType::Prismatic: q.scalar = p.initialPosition[0]; break;
+        case JointType::Spherical:
+          q.rotation = Exp(Real3(p.initialPosition[0], p.initialPosition[1], p.initialPosition[2]));
+          break;
+        case JointType::Free:
+          q.translation = Real3(p.initialPosition[0], p.initialPosition[1], p.initialPosition[2]);
+          q.rotation = Exp(Real3(p.initialPosition[3], p.initialPosition[4], p.initialPosition[5]));
+          break;
+        case JointType::Fixed: break;
+      }
+    }
+    for (std::size_t k = 0; k < p.initialVelocity.size(); ++k) s.jointVelocity[l.dofStart + k] = p.initialVelocity[k];
+  }
+  // scratch
+  a.inertia_.resize(numLinks);
+  a.stageStart_ = s.joints;
+  a.saved_ = s.joints;
+  a.jointTarget_ = VectorX::Zero(numDofs);
+  a.kinematics_.motion.resize(6, numDofs);
+  a.hessian_ = MatrixX::Zero(numDofs, numDofs);
+  a.composite_.resize(numLinks);
+  for (auto* v : {&a.wrenchForce_, &a.wrenchMoment_, &a.torqueSum_}) v->resize(numLinks);
+  a.forceMoment_.resize(numLinks);
+  // link poses and velocities from the joints: v_c = Σ (v_k + ω_k × c) q̇_k
+  a.ComputeKinematics(s.joints, a.kinematics_);
+  s.links.resize(numLinks);
+  for (int i = 0; i < numLinks; ++i) {
+    internal::RigidBodyMotion& m = s.links[i];
+    m.position = a.kinematics_.com[i];
+    m.rotation = a.kinematics_.linkRotation[i];
+    Real3 omega = Real3::Zero(), velocity = Real3::Zero();
+    for (int j = i; j >= 0; j = a.links_[j].parent)
+      for (int k = a.links_[j].dofStart; k < a.links_[j].dofStart + a.links_[j].numDofs; ++k) {
+        Vector6 const motion = a.kinematics_.motion.col(k);
+        omega += motion.head<3>() * s.jointVelocity[k];
+        velocity += (motion.tail<3>() + motion.head<3>().cross(m.position)) * s.jointVelocity[k];
+      }
+    m.linearVelocity = velocity;
+    m.angularVelocity = omega;
+  }
+  return actor;
+}
+
+void ArticulatedActor::ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k) const {
+  int const numLinks = GetNumLinks();
+  for (auto* v : {&k.linkPosition, &k.com, &k.jointOrigin}) v->resize(numLinks);
+  for (auto* v : {&k.linkRotation, &k.preRotation, &k.postRotation}) v->resize(numLinks);
+  k.motion.resize(6, numDofs_);
+  for (int i = 0; i < numLinks; ++i) {
+    Link const& l = links_[i];
+    JointState const& q = joints[i];
+    Quat const parentRotation = l.parent < 0 ? Quat::Identity() : k.linkRotation[l.parent];
+    Real3 const parentPosition = l.parent < 0 ? Real3::Zero() : k.linkPosition[l.parent];
+    Quat const pre = parentRotation * l.parentToJointRotation;
+    Real3 origin = parentPosition + parentRotation * l.parentToJointPosition;
+    Quat post = pre;
+    switch (l.joint) {
+      case JointType::Revolute: post = pre * Quat(Eigen::AngleAxis<real>(q.scalar, l.axis)); break;
+      case JointType::Prismatic: origin += pre * (q.scalar * l.axis); break;
+      case JointType::Spherical: post = pre * q.rotation; break;
+      case JointType::Free:
+        origin += pre * q.translation;
+        post = pre * q.rotation;
+        break;
+      case JointType::Fixed: break;
+    }
+    post.normalize();
+    k.preRotation[i] = pre;
+    k.postRotation[i] = post;
+    k.jointOrigin[i] = origin;
+    k.linkRotation[i] = (post * l.jointToChildRotation).normalized();
+    k.linkPosition[i] = origin + post * l.jointToChildPosition;
+    k.com[i] = k.linkPosition[i] + k.linkRotation[i] * l.centerOfMass;
+    // each DoF's world motion (ω; v at the origin), v_O = o × ω for a rotation about o
+    Real33 const preMatrix = pre.toRotationMatrix(), postMatrix = post.toRotationMatrix();
+    auto rotationAbout = [&](int column, Real3 const& omega) {
+      k.motion.col(column) << omega, origin.cross(omega);
+    };
+    auto translationAlong = [&](int column, Real3 const& direction) {
+      k.motion.col(column) << Real3::Zero(), direction;
+    };
+    switch (l.joint) {
+      case JointType::Revolute: rotationAbout(l.dofStart, preMatrix * l.axis); break;
+      case JointType::Prismatic: translationAlong(l.dofStart, preMatrix * l.axis); break;
+      case JointType::Spherical:
+        for (int a = 0; a < 3; ++a) rotationAbout(l.dofStart + a, postMatrix.col(a));
+        break;
+      case JointType::Free:
+        for (int a = 0; a < 3; ++a) translationAlong(l.dofStart + a, preMatrix.col(a));
+        for (int a = 0; a < 3; ++a) rotationAbout(l.dofStart + 3 + a, postMatrix.col(a));
+        break;
+      case JointType::Fixed: break;
+    }
+  }
+}
+
+void ArticulatedActor::JointDifference(int link, JointState const& q, JointState const& q0, real* out) const {
+  switch (links_[link].joint) {
+    case JointType::Revolute:
+    case JointType::Prismatic: out[0] = q.scalar - q0.scalar; break;
+    case JointType::Spherical: {
+      Real3 const d = Log(q0.rotation.conjugate() * q.rotation);
+      for (int a = 0; a < 3; ++a) out[a] = d[a];
+      break;
+    }
+    case JointType::Free: {
+      Real3 const d = Log(q0.rotation.conjugate() * q.rotation);
+      for (int a = 0; a < 3; ++a) {
+        out[a] = q.translation[a] - q0.translation[a];
+        out[3 + a] = d[a];
+      }
+      break;
+    }
+    case JointType::Fixed: break;
+  }
+}
+
+Real3 ArticulatedActor::GetLinkPosition(int link) const {
+  ComputeKinematics(state_.joints, kinematics_);
+  return kinematics_.linkPosition[link];
+}
+
+Quat ArticulatedActor::GetLinkRotation(int link) const { return state_.links[link].rotation; }
+
+DynamicArray<real> ArticulatedActor::GetJointPositions() const {
+  DynamicArray<real> positions(numDofs_, 0);
+  JointState const rest;
+  for (int i = 0; i < GetNumLinks(); ++i) JointDifference(i, state_.joints[i], rest, positions.data() + links_[i].dofStart);
+  return positions;
+}
+
+DynamicArray<real> ArticulatedActor::GetJointVelocities() const {
+  return DynamicArray<real>(state_.jointVelocity.data(), state_.jointVelocity.data() + numDofs_);
+}
+
+real ArticulatedActor::GetKineticEnergy() const {
+  real energy = 0;
+  for (int i = 0; i < GetNumLinks(); ++i) {
+    internal::RigidBodyMotion const& m = state_.links[i];
+    Real3 const bodyOmega = m.rotation.conjugate() * m.angularVelocity;
+    energy += 0.5 * links_[i].mass * m.linearVelocity.squaredNorm() +
+              0.5 * bodyOmega.dot(links_[i].inertia.asDiagonal() * bodyOmega);
+  }
+  for (int i = 0; i < GetNumLinks(); ++i)
+    for (int k = links_[i].dofStart; k < links_[i].dofStart + links_[i].numDofs; ++k)
+      energy += 0.5 * links_[i].armature * state_.jointVelocity[k] * state_.jointVelocity[k];
+  return energy;
+}
+
+Real3 ArticulatedActor::GetLinearMomentum() const {
+  Real3 p = Real3::Zero();
+  for (int i = 0; i < GetNumLinks(); ++i) p += links_[i].mass * state_.links[i].linearVelocity;
+  return p;
+}
+
+Real3 ArticulatedActor::GetAngularMomentum() const {
+  Real3 l = Real3::Zero();
+  for (int i = 0; i < GetNumLinks(); ++i) {
+    internal::RigidBodyMotion const& m = state_.links[i];
+    l += m.position.cross(links_[i].mass * m.linearVelocity) +
+         m.rotation * (links_[i].inertia.asDiagonal() * (m.rotation.conjugate() * m.angularVelocity));
+  }
+  return l;
+}
+
+MatrixX ArticulatedActor::ComputeMassMatrix() const {
+  // CRBA: composite spatial inertias about the world origin, summed from the
+  // leaves; M_jk = s_jᵀ I_c(k) s_k for j on the path from k to the root
+  ComputeKinematics(state_.joints, kinematics_);
+  int const numLinks = GetNumLinks();
+  for (int i = 0; i < numLinks; ++i) {
+    Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
+    composite_[i] = SpatialStiffness(r * links_[i].inertia.asDiagonal() * r.transpose(), links_[i].mass,
+                                     kinematics_.com[i]);
+  }
+  for (int i = numLinks - 1; i > 0; --i)
+    if (links_[i].parent >= 0) composite_[links_[i].parent] += composite_[i];
+  MatrixX mass = MatrixX::Zero(numDofs_, numDofs_);
+  for (int k = 0; k < numLinks; ++k) {
+    Link const& lk = links_[k];
+    if (lk.numDofs == 0) continue;
+    Eigen::Matrix<real, 6, Eigen::Dynamic> const force = composite_[k] * kinematics_.motion.middleCols(lk.dofStart, lk.numDofs);
+    for (int j = k; j >= 0; j = links_[j].parent) {
+      Link const& lj = links_[j];
+      if (lj.numDofs == 0) continue;
+      MatrixX const block = kinematics_.motion.middleCols(lj.dofStart, lj.numDofs).transpose() * force;
+      mass.block(lj.dofStart, lk.dofStart, lj.numDofs, lk.numDofs) = block;
+      mass.block(lk.dofStart, lj.dofStart, lk.numDofs, lj.numDofs) = block.transpose();
+    }
+  }
+  for (int i = 0; i < numLinks; ++i)
+    for (int k = links_[i].dofStart; k < links_[i].dofStart + links_[i].numDofs; ++k) mass(k, k) += links_[i].armature;
+  return mass;
+}
+
+VectorX ArticulatedActor::ComputeBiasForces(Real3 const& gravity) const {
+  // RNEA in world coordinates at the origin, q̈ = 0: V_i = V_p + S q̇,
+  // A_i = A_p + Ṡ q̇ with Ṡ = V ×ₘ S (V the velocity of the frame the axis
+  // is fixed in: the parent's for revolute, prismatic and free-translation
+  // axes, the link's for spherical and free-rotation axes), A_root = −g
+  // (gravity as a base acceleration); F_i = I_i A_i + V_i ×_f I_i V_i;
+  // τ_k = S_kᵀ Σ_subtree F.
+  ComputeKinematics(state_.joints, kinematics_);
+  int const numLinks = GetNumLinks();
+  auto crossMotion = [](Vector6 const& v, Vector6 const& m) {
+    Vector6 r;
+    r << v.head<3>().cross(m.head<3>()), v.head<3>().cross(m.tail<3>()) + v.tail<3>().cross(m.head<3>());
+    return r;
+  };
+  auto crossForce = [](Vector6 const& v, Vector6 const& f) {
+    Vector6 r;
+    r << v.head<3>().cross(f.head<3>()) + v.tail<3>().cross(f.tail<3>()), v.head<3>().cross(f.tail<3>());
+    return r;
+  };
+  DynamicArray<Vector6> velocity(numLinks), acceleration(numLinks), force(numLinks);
+  Vector6 baseAcceleration;
+  baseAcceleration << Real3::Zero(), -gravity;
+  for (int i = 0; i < numLinks; ++i) {
+    Link const& l = links_[i];
+    Vector6 const parentVelocity = l.parent < 0 ? Vector6::Zero() : velocity[l.parent];
+    Vector6 const parentAcceleration = l.parent < 0 ? baseAcceleration : acceleration[l.parent];
+    Vector6 v = parentVelocity;
+    for (int k = l.dofStart; k < l.dofStart + l.numDofs; ++k)
+      v += kinematics_.motion.col(k) * state_.jointVelocity[k];
+    Vector6 a = parentAcceleration;
+    for (int k = l.dofStart; k < l.dofStart + l.numDofs; ++k) {
+      bool const fixedInChild = l.joint == JointType::Spherical ||
+                                (l.joint == JointType::Free && k >= l.dofStart + 3);
+      a += crossMotion(fixedInChild ? v : parentVelocity, kinematics_.motion.col(k)) * state_.jointVelocity[k];
+    }
+    velocity[i] = v;
+    acceleration[i] = a;
+    Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
+    Matrix6 const inertia =
+        SpatialStiffness(r * l.inertia.asDiagonal() * r.transpose(), l.mass, kinematics_.com[i]);
+    force[i] = inertia * a + crossForce(v, inertia * v);
+  }
+  for (int i = numLinks - 1; i > 0; --i) force[links_[i].parent] += force[i];
+  VectorX bias(numDofs_);
+  for (int i = 0; i < numLinks; ++i)
+    for (int k = links_[i].dofStart; k < links_[i].dofStart + links_[i].numDofs; ++k)
+      bias[k] = kinematics_.motion.col(k).dot(force[i]);
+  return bias;
+}
+
+// ---- stage interface ----
+
+void ArticulatedActor::AppendDofBlockSizes(DynamicArray<int>& sizes) const {
+  for (Link const& l : links_)
+    if (l.numDofs > 0) sizes.push_back(l.numDofs);
+}
+
+void ArticulatedActor::WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const {
+  // only a floating base moves rigidly: its free joint's translation (in the
+  // joint frame) and a rotation ω about the world origin (local increment
+  // R_postᵀ ω, the joint origin o moving by ω × o)
+  if (!IsFloatingBase()) return;
+  ComputeKinematics(state_.joints, kinematics_);
+  Real33 const pre = kinematics_.preRotation[0].toRotationMatrix();
+  Real33 const post = kinematics_.postRotation[0].toRotationMatrix();
+  auto block = modes.middleRows(dofOffset_, numDofs_);
+  block.setZero();
+  block.topLeftCorner<3, 3>() = pre.transpose();
+  block.block<3, 3>(0, 3) = -pre.transpose() * Hat(kinematics_.jointOrigin[0]);
+  block.block<3, 3>(3, 3) = post.transpose();
+}
+
+void ArticulatedActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
+  // one dense block over all the actor's DoFs
+  DynamicArray<int> dofs(numDofs_);
+  for (int k = 0; k < numDofs_; ++k) dofs[k] = dofOffset_ + k;
+  dofLists.push_back(std::move(dofs));
+}
+
+void ArticulatedActor::BeginStage(internal::StageCoefficients const& requested, Real3 const& gravity) {
+  stage_ = (requested.usesHistory && !state_.hasHistory)
+               ? internal::MakeStage(IntegratorType::BackwardEuler, requested.duration, false)
+               : requested;
+  gravity_ = gravity;
+  for (int i = 0; i < GetNumLinks(); ++i)
+    inertia_[i].Begin(stage_, links_[i].mass, links_[i].inertia, state_.links[i]);
+  stageStart_ = state_.joints;
+  // the reduced prediction Δ̂q = c Δₚ + β h (a q̇ⁿ + b q̇ⁿ⁻¹) (the armature's
+  // target, and Newton's first iterate)
+  real const betaH = stage_.beta * stage_.duration;
+  jointTarget_ = betaH * stage_.aVelocity * state_.jointVelocity;
+  if (stage_.usesHistory) {
+    jointTarget_ += betaH * stage_.bVelocity * state_.previousJointVelocity;
+    for (int i = 0; i < GetNumLinks(); ++i) {
+      real previous[6];
+      JointDifference(i, state_.previousJoints[i], state_.joints[i], previous);
+      for (int a = 0; a < links_[i].numDofs; ++a) jointTarget_[links_[i].dofStart + a] += stage_.cPrevious * previous[a];
+    }
+  }
+  saved_ = state_.joints;
+  ApplyLocalIncrement(jointTarget_.data(), 1);
+}
+
+real ArticulatedActor::Energy() const {
+  ComputeKinematics(state_.joints, kinematics_);
+  real energy = 0;
+  for (int i = 0; i < GetNumLinks(); ++i)
+    energy += inertia_[i].Energy(kinematics_.com[i], kinematics_.linkRotation[i]) -
+              links_[i].mass * gravity_.dot(kinematics_.com[i]);
+  // joint-space terms: ½ w a (Δq − Δ̂q)² + d/(2h) Δq²
+  real const weight = stage_.InertiaWeight(), h = stage_.duration;
+  for (int i = 0; i < GetNumLinks(); ++i) {
+    Link const& l = links_[i];
+    if (l.numDofs == 0 || (l.armature == 0 && l.damping == 0)) continue;
+    real d[6];
+    JointDifference(i, state_.joints[i], stageStart_[i], d);
+    for (int a = 0; a < l.numDofs; ++a) {
+      real const r = d[a] - jointTarget_[l.dofStart + a];
+      energy += 0.5 * weight * l.armature * r * r + 0.5 * l.damping / h * d[a] * d[a];
+    }
+  }
+  return energy;
+}
+
+void ArticulatedActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+                                             int firstContributor, bool projectHessian) const {
+  ComputeKinematics(state_.joints, kinematics_);
+  Kinematics const& k = kinematics_;
+  int const numLinks = GetNumLinks();
+  // link wrenches: f at the centre of mass (inertia residual − m g), τ a
+  // pure torque; subtree sums of f, of the moment about the origin
+  // Σ (τ + c × f), of τ, and of c fᵀ (for the kinematic curvature)
+  for (int i = 0; i < numLinks; ++i) {
+    Real3 f, tau;
+    inertia_[i].Gradient(k.com[i], k.linkRotation[i], f, tau);
+    f -= links_[i].mass * gravity_;
+    wrenchForce_[i] = f;
+    wrenchMoment_[i] = tau + k.com[i].cross(f);
+    torqueSum_[i] = tau;
+    forceMoment_[i] = k.com[i] * f.transpose();
+    Real33 const rotation = projectHessian ? inertia_[i].RotationHessianGaussNewton(k.linkRotation[i])
+                                           : inertia_[i].RotationHessian(k.linkRotation[i]);
+    composite_[i] = SpatialStiffness(rotation, inertia_[i].TranslationStiffness(), k.com[i]);
+  }
+  for (int i = numLinks - 1; i > 0; --i) {
+    int const p = links_[i].parent;
+    wrenchForce_[p] += wrenchForce_[i];
+    wrenchMoment_[p] += wrenchMoment_[i];
+    torqueSum_[p] += torqueSum_[i];
+    forceMoment_[p] += forceMoment_[i];
+    composite_[p] += composite_[i];
+  }
+  // gradient: g_k = ω_k·M_sub + v_k·F_sub (the backward pass of RNEA)
+  real* out = gradient.data() + dofOffset_;
+  for (int i = 0; i < numLinks; ++i)
+    for (int c = links_[i].dofStart; c < links_[i].dofStart + links_[i].numDofs; ++c)
+      out[c] += k.motion.col(c).head<3>().dot(wrenchMoment_[i]) + k.motion.col(c).tail<3>().dot(wrenchForce_[i]);
+
+  // Hessian, first the composite-rigid-body part H_jk = s_jᵀ K_sub(k) s_k
+  hessian_.setZero();
+  for (int c = 0; c < numLinks; ++c) {
+    Link const& lk = links_[c];
+    if (lk.numDofs == 0) continue;
+    SpatialColumns force;  // fixed capacity: no allocation
+    force.noalias() = composite_[c] * k.motion.middleCols(lk.dofStart, lk.numDofs);
+    for (int j = c; j >= 0; j = links_[j].parent) {
+      Link const& lj = links_[j];
+      if (lj.numDofs == 0) continue;
+      hessian_.block(lj.dofStart, lk.dofStart, lj.numDofs, lk.numDofs).noalias() =
+          k.motion.middleCols(lj.dofStart, lj.numDofs).transpose() * force;
+      if (j != c)
+        hessian_.block(lk.dofStart, lj.dofStart, lk.numDofs, lj.numDofs) =
+            hessian_.block(lj.dofStart, lk.dofStart, lj.numDofs, lk.numDofs).transpose();
+    }
+  }
+  // then the curvature of the link poses against the link wrenches: for DoF
+  // a upstream of DoF b (x moved by Exp(a) Exp(b)), ∂²x/∂a∂b = ω_a × u_b(x)
+  // and ∂²ω/∂a∂b = ½ ω_a × ω_b, summed over b's subtree:
+  //   H_ab += ω_a·(P ω_b − ω_b tr P + v_b × F) + ½ ω_a·(ω_b × T)
+  // (P = Σ c fᵀ, F = Σ f, T = Σ τ); within one spherical or free joint the
+  // rotations are exponential coordinates: the symmetric ½(ÂB̂ + B̂Â) and
+  // no torque term; a free joint's translations act before its rotations
+  if (!projectHessian) {
+    for (int c = 0; c < numLinks; ++c) {
+      Link const& lk = links_[c];
+      Real33 const& p = forceMoment_[c];
+      real const trace = p.trace();
+      for (int b = lk.dofStart; b < lk.dofStart + lk.numDofs; ++b) {
+        Real3 const wb = k.motion.col(b).head<3>(), vb = k.motion.col(b).tail<3>();
+        if (wb.isZero() && vb.isZero()) continue;
+        Real3 const q = p * wb - trace * wb + vb.cross(wrenchForce_[c]);
+        Real3 const rotationTerm = 0.5 * wb.cross(torqueSum_[c]);
+        // strict ancestors
+        for (int j = links_[c].parent; j >= 0; j = links_[j].parent)
+          for (int a = links_[j].dofStart; a < links_[j].dofStart + links_[j].numDofs; ++a) {
+            real const value = k.motion.col(a).head<3>().dot(q + rotationTerm);
+            hessian_(a, b) += value;
+            hessian_(b, a) += value;
+          }
+        // the same joint: a ≤ b
+        for (int a = lk.dofStart; a <= b; ++a) {
+          Real3 const wa = k.motion.col(a).head<3>(), va = k.motion.col(a).tail<3>();
+          bool const aTranslation = wa.isZero();
+          real value = 0;
+          if (a == b) {
+            value = wb.dot(q);
+          } else if (aTranslation) {
+            value = 0;  // a free joint's translation before its rotation: no coupling
+          } else {
+            Real3 const qa = p * wa - trace * wa + va.cross(wrenchForce_[c]);
+            value = 0.5 * (wa.dot(q) + wb.dot(qa));
+          }
+          hessian_(a, b) += value;
+          if (a != b) hessian_(b, a) += value;
+        }
+      }
+    }
+  }
+  // joint-space terms (armature, damping); rotations through J_r⁻¹ (Gauss–Newton)
+  real const weight = stage_.InertiaWeight(), h = stage_.duration;
+  for (int i = 0; i < numLinks; ++i) {
+    Link const& l = links_[i];
+    if (l.numDofs == 0 || (l.armature == 0 && l.damping == 0)) continue;
+    real d[6];
+    JointDifference(i, state_.joints[i], stageStart_[i], d);
+    real const stiffness = weight * l.armature + l.damping / h;
+    auto addRotation = [&](int first) {
+      Real3 const phi(d[first], d[first + 1], d[first + 2]);
+      Real33 const dPhi = RightJacobianInverse(phi);
+      Real3 residual;
+      for (int a = 0; a < 3; ++a)
+        residual[a] = weight * l.armature * (d[first + a] - jointTarget_[l.dofStart + first + a]) +
+                      l.damping / h * d[first + a];
+      Real3 const g = dPhi.transpose() * residual;
+      for (int a = 0; a < 3; ++a) out[l.dofStart + first + a] += g[a];
+      hessian_.block<3, 3>(l.dofStart + first, l.dofStart + first) += stiffness * dPhi.transpose() * dPhi;
+    };
+    auto addLinear = [&](int a) {
+      out[l.dofStart + a] += weight * l.armature * (d[a] - jointTarget_[l.dofStart + a]) + l.damping / h * d[a];
+      hessian_(l.dofStart + a, l.dofStart + a) += stiffness;
+    };
+    switch (l.joint) {
+      case JointType::Revolute:
+      case JointType::Prismatic: addLinear(0); break;
+      case JointType::Spherical: addRotation(0); break;
+      case JointType::Free:
+        for (int a = 0; a < 3; ++a) addLinear(a);
+        addRotation(3);
+        break;
+      case JointType::Fixed: break;
+    }
+  }
+  assembler.AddBlock(firstContributor, hessian_);
+}
+
+void ArticulatedActor::SaveIterate() { saved_ = state_.joints; }
+
+void ArticulatedActor::RestoreIterate() { state_.joints = saved_; }
+
+void ArticulatedActor::ApplyIncrementFromSaved(Span<real const> delta, real alpha) {
+  ApplyLocalIncrement(delta.data() + dofOffset_, alpha);
+}
+
+void ArticulatedActor::ApplyLocalIncrement(real const* d, real alpha) {
+  for (int i = 0; i < GetNumLinks(); ++i) {
+    Link const& l = links_[i];
+    JointState const& from = saved_[i];
+    JointState& to = state_.joints[i];
+    real const* x = d + l.dofStart;
+    switch (l.joint) {
+      case JointType::Revolute:
+      case JointType::Prismatic: to.scalar = from.scalar + alpha * x[0]; break;
+      case JointType::Spherical:
+        to.rotation = (from.rotation * Exp(alpha * Real3(x[0], x[1], x[2]))).normalized();
+        break;
+      case JointType::Free:
+        to.translation = from.translation + alpha * Real3(x[0], x[1], x[2]);
+        to.rotation = (from.rotation * Exp(alpha * Real3(x[3], x[4], x[5]))).normalized();
+        break;
+      case JointType::Fixed: break;
+    }
+  }
+}
+
+bool ArticulatedActor::IsStateFinite() const {
+  for (JointState const& q : state_.joints)
+    if (!std::isfinite(q.scalar) || !q.translation.allFinite() || !q.rotation.coeffs().allFinite()) return false;
+  return true;
+}
+
+void ArticulatedActor::EndStage() {
+  ComputeKinematics(state_.joints, kinematics_);
+  for (int i = 0; i < GetNumLinks(); ++i)
+    inertia_[i].End(kinematics_.com[i], kinematics_.linkRotation[i], state_.links[i]);
+  // joint velocities: (Δq − c Δₚ)/(β h) in increment coordinates
+  real const betaH = stage_.beta * stage_.duration;
+  state_.previousJointVelocity = state_.jointVelocity;
+  for (int i = 0; i < GetNumLinks(); ++i) {
+    Link const& l = links_[i];
+    real d[6], previous[6] = {0, 0, 0, 0, 0, 0};
+    JointDifference(i, state_.joints[i], stageStart_[i], d);
+    if (stage_.usesHistory) JointDifference(i, state_.previousJoints[i], stageStart_[i], previous);
+    for (int a = 0; a < l.numDofs; ++a)
+      state_.jointVelocity[l.dofStart + a] = (d[a] - stage_.cPrevious * previous[a]) / betaH;
+  }
+  state_.previousJoints = stageStart_;
+  state_.hasHistory = true;
+}
+
+void ArticulatedActor::SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const {
+  auto* own = dynamic_cast<Snapshot*>(snapshot.get());
+  if (!own) {
+    snapshot = std::make_unique<Snapshot>();
+    own = static_cast<Snapshot*>(snapshot.get());
+  }
+  own->state = state_;
+}
+
+void ArticulatedActor::RestoreSnapshot(internal::ActorSnapshot const& snapshot) {
+  state_ = static_cast<Snapshot const&>(snapshot).state;
+}
+
+}  // namespace superdex

@@ -1,0 +1,211 @@
+// An articulated actor: a tree of rigid links in reduced coordinates
+// (design.md §4.4). Link 0 is the root; every link names a parent earlier in
+// the list (the root's parent is the world) and the joint between them.
+//
+// Kinematics. Link i's world transform is
+//
+//   T_i = T_p(i) · X_pj · J(q_i) · X_jc,
+//
+// T_p the parent's (identity for the root), X_pj the joint frame in the
+// parent frame, X_jc the link frame in the joint's child-side frame, J the
+// joint motion:
+//
+//   Fixed      0 DoFs  J = I
+//   Revolute   1 DoF   J = Rot(a, θ)            a the unit axis in the joint frame
+//   Prismatic  1 DoF   J = Trans(a d)
+//   Spherical  3 DoFs  J = Rot(R_j)             increments R_j ← R_j Exp(δ) (local)
+//   Free       6 DoFs  J = Trans(p) Rot(R_j)    p ← p + δ_p (joint frame), R_j ← R_j Exp(δ_r)
+//
+// A Free root is a floating base; any other root joint attaches the tree to
+// the world (fixed base). The DoFs are the joints' in link order.
+//
+// Dynamics: the stage inertia term is each link's rigid-body inertia term
+// (actors/rigid_actor.h) evaluated at the link pose the reduced coordinates
+// give,
+//
+//   E(q) = Σ_i [½ w m_i ‖Δc_i − Δ̂c_i‖² + ½ w (φ_i − φ̂_i)ᵀ I_i (φ_i − φ̂_i) − m_i g·c_i]
+//          + Σ_dofs ½ w a_k (Δq_k − Δ̂q_k)² + d_k/(2h) Δq_k²,
+//
+// c_i the link's centre of mass, φ_i = Log(R_iⁿᵀ R_i) its body-frame rotation
+// in the stage, Δ̂/φ̂ the integrator's predictions from the link's own
+// velocity (with the same gyroscopic treatment as a free rigid body), a_k the
+// joint armature and d_k the joint damping. This is how the configuration-
+// dependent mass matrix enters: the Gauss–Newton part of ∇²E is w·M(q), M(q)
+// the joint-space mass matrix at the current iterate (the composite-rigid-
+// body algorithm computes it), and E itself is the maximal-coordinate
+// incremental potential restricted to the joint manifold — a chain of rigid
+// bodies with infinitely stiff joints, stepped by the same integrator. The
+// gradient is a recursive Newton–Euler backward pass of the link wrenches
+// (inertia residual and gravity). The Hessian adds the kinematic curvature
+// of the link poses against those wrenches (exact; it may be indefinite);
+// with `projectHessian` only the PSD part w·M(q) + armature + damping is
+// kept.
+#pragma once
+
+#include <superdex/actors/actor.h>
+#include <superdex/actors/rigid_inertia.h>
+#include <superdex/core/error.h>
+#include <superdex/scene/integrator.h>
+
+namespace superdex {
+
+enum class JointType { Fixed, Revolute, Prismatic, Spherical, Free };
+
+std::string_view ToString(JointType type);
+/// DoFs of a joint type: 0, 1, 1, 3, 6.
+int JointDofs(JointType type);
+
+struct ArticulatedLinkParams {
+  int parent = -1;                      ///< earlier link, or −1 for the world (root only)
+  JointType joint = JointType::Revolute;
+  Real3 axis = Real3::UnitZ();          ///< revolute/prismatic axis, joint frame (normalized)
+  Real3 parentToJointPosition = Real3::Zero();   ///< X_pj, in the parent link frame (world for the root) [m]
+  Quat parentToJointRotation = Quat::Identity();
+  Real3 jointToChildPosition = Real3::Zero();    ///< X_jc, in the joint's child-side frame [m]
+  Quat jointToChildRotation = Quat::Identity();
+  real mass = 1;                        ///< [kg], > 0
+  Real3 inertia = Real3::Ones();        ///< principal moments about the centre of mass, link axes [kg·m²], > 0
+  Real3 centerOfMass = Real3::Zero();   ///< in the link frame [m]
+  real armature = 0;                    ///< added joint-space inertia per DoF [kg·m² or kg], >= 0
+  real damping = 0;                     ///< joint damping per DoF [N·m·s/rad or N·s/m], >= 0
+  /// Initial joint position: revolute angle / prismatic offset in [0];
+  /// spherical: rotation vector of R_j in [0..2]; free: p in [0..2], rotation
+  /// vector in [3..5]. Empty: zero (rest). Otherwise JointDofs entries.
+  DynamicArray<real> initialPosition;
+  /// Initial joint velocity (JointDofs entries, in the increment coordinates) or empty.
+  DynamicArray<real> initialVelocity;
+};
+
+struct ArticulatedActorParams {
+  DynamicArray<ArticulatedLinkParams> links;  ///< at least one; link 0 is the root
+};
+
+class ArticulatedActor final : public Actor {
+ public:
+  /// Validates everything (a tree: each parent an earlier link, only the
+  /// root on the world; unit quaternions, non-zero axes, positive mass and
+  /// inertia, initial state sizes; at least one DoF); nullptr and an Error
+  /// naming the field on bad input.
+  static std::unique_ptr<ArticulatedActor> Create(ArticulatedActorParams const& params, Error& error);
+
+  int GetNumLinks() const { return static_cast<int>(links_.size()); }
+  /// Preconditions for every link accessor: 0 <= link < GetNumLinks().
+  JointType GetJointType(int link) const { return links_[link].joint; }
+  int GetParent(int link) const { return links_[link].parent; }
+  /// First local DoF of the link's joint and its number of DoFs.
+  int GetJointDofOffset(int link) const { return links_[link].dofStart; }
+  int GetJointNumDofs(int link) const { return links_[link].numDofs; }
+  bool IsFloatingBase() const { return links_[0].joint == JointType::Free; }
+
+  /// Link frame (origin and axes) in the world.
+  Real3 GetLinkPosition(int link) const;
+  Quat GetLinkRotation(int link) const;
+  /// Centre of mass, world.
+  Real3 GetLinkCenterOfMass(int link) const { return state_.links[link].position; }
+  /// Velocity of the centre of mass and angular velocity, world.
+  Real3 const& GetLinkLinearVelocity(int link) const { return state_.links[link].linearVelocity; }
+  Real3 const& GetLinkAngularVelocity(int link) const { return state_.links[link].angularVelocity; }
+  real GetLinkMass(int link) const { return links_[link].mass; }
+
+  /// Joint positions, GetNumDofs() entries in DoF order: revolute angle,
+  /// prismatic offset, spherical rotation vector Log(R_j), free p then Log(R_j).
+  DynamicArray<real> GetJointPositions() const;
+  /// Joint velocities in the increment coordinates (spherical and free
+  /// rotations: local angular velocity, free translation: in the joint frame).
+  DynamicArray<real> GetJointVelocities() const;
+  /// R_j of a spherical or free joint (identity = rest); identity otherwise.
+  Quat GetJointRotation(int link) const { return state_.joints[link].rotation; }
+
+  real GetKineticEnergy() const;
+  Real3 GetLinearMomentum() const;
+  /// About the world origin.
+  Real3 GetAngularMomentum() const;
+
+  /// The joint-space mass matrix M(q) at the current configuration
+  /// (composite-rigid-body algorithm), GetNumDofs() square, armature included.
+  MatrixX ComputeMassMatrix() const;
+  /// The bias forces C(q, q̇) q̇ − τ_g(q) at the current configuration and
+  /// joint velocities with gravity `gravity` (recursive Newton–Euler with
+  /// q̈ = 0): M(q) q̈ + bias = τ is the equation of motion, τ the joint forces.
+  VectorX ComputeBiasForces(Real3 const& gravity) const;
+
+ private:
+  explicit ArticulatedActor(int numDofs) : Actor(ActorType::Articulated, numDofs) {}
+
+  struct Link {
+    int parent = -1;
+    JointType joint = JointType::Fixed;
+    Real3 axis = Real3::UnitZ();
+    Real3 parentToJointPosition, jointToChildPosition;
+    Quat parentToJointRotation, jointToChildRotation;
+    real mass = 1;
+    Real3 inertia = Real3::Ones(), centerOfMass = Real3::Zero();
+    real armature = 0, damping = 0;
+    int dofStart = 0, numDofs = 0;
+  };
+  /// A joint's configuration: the scalar of revolute/prismatic joints, the
+  /// translation p and rotation R_j of free (R_j of spherical) joints.
+  struct JointState {
+    real scalar = 0;
+    Real3 translation = Real3::Zero();
+    Quat rotation = Quat::Identity();
+  };
+  struct State {
+    DynamicArray<JointState> joints;
+    VectorX jointVelocity;
+    DynamicArray<internal::RigidBodyMotion> links;  ///< committed pose, velocities, history per link
+    bool hasHistory = false;
+    DynamicArray<JointState> previousJoints;
+    VectorX previousJointVelocity;
+  };
+  struct Snapshot final : internal::ActorSnapshot {
+    State state;
+  };
+  /// Forward kinematics of one configuration: link frames, centres of mass,
+  /// joint frames and each DoF's world motion (ω, v at the origin).
+  struct Kinematics {
+    DynamicArray<Real3> linkPosition, com, jointOrigin;
+    DynamicArray<Quat> linkRotation, preRotation, postRotation;
+    Eigen::Matrix<real, 6, Eigen::Dynamic> motion;  ///< column k: DoF k's (ω; v_O)
+  };
+
+  void AppendDofBlockSizes(DynamicArray<int>& sizes) const override;
+  void WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const override;
+  void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
+  void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
+  real Energy() const override;
+  void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+                             int firstContributor, bool projectHessian) const override;
+  void SaveIterate() override;
+  void RestoreIterate() override;
+  void ApplyIncrementFromSaved(Span<real const> delta, real alpha) override;
+  bool IsStateFinite() const override;
+  void EndStage() override;
+  void SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const override;
+  void RestoreSnapshot(internal::ActorSnapshot const& snapshot) override;
+
+  void ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k) const;
+  /// q ⊖ q⁰ of joint `link` in its increment coordinates (spherical/free
+  /// rotations: Log(R⁰ᵀ R), local), written at out[0..numDofs).
+  void JointDifference(int link, JointState const& q, JointState const& q0, real* out) const;
+  /// q ← saved ⊕ α d, d the actor's local increment (numDofs entries).
+  void ApplyLocalIncrement(real const* d, real alpha);
+
+  // definition (immutable after creation)
+  DynamicArray<Link> links_;
+
+  State state_;
+  // stage scratch, sized at creation
+  internal::StageCoefficients stage_;
+  Real3 gravity_ = Real3::Zero();
+  DynamicArray<internal::RigidInertiaStage> inertia_;
+  DynamicArray<JointState> stageStart_, saved_;
+  VectorX jointTarget_;  ///< Δ̂q, the reduced prediction (armature)
+  mutable Kinematics kinematics_;
+  mutable MatrixX hessian_;
+  mutable DynamicArray<Eigen::Matrix<real, 6, 6>> composite_;
+  mutable DynamicArray<Real3> wrenchForce_, wrenchMoment_, torqueSum_;
+  mutable DynamicArray<Real33> forceMoment_;
+};
+
+}  // namespace superdex
