@@ -31,13 +31,22 @@ void RigidInertiaStage::Begin(StageCoefficients const& stage, real mass, Real3 c
   Real3 const bodyOmega = rotationT * motion.angularVelocity;
   previousRotationOffset_.setZero();
   if (stage.usesHistory) {
-    Real3 const bodyOmegaPrevious = rotationT * motion.previousAngularVelocity;
+    // BDF2 in the chart R = Rⁿ Exp(x) around the stage start, where a curve's
+    // rate is ẋ = J_r⁻¹(x) Ω = J_l⁻¹(x) Rⁿᵀ ω (Ω body, ω world) and its
+    // acceleration ẍ = J_r⁻¹(x) Ω̇ + O(h²). The J factors are O(h) rotations
+    // that a second-order method must keep: the previous pose's rate, and
+    // the gyroscopic acceleration −I⁻¹(Ω̃ × I Ω̃) at the predicted x̃, with
+    // Ω̃ = 2Ωⁿ − Ωⁿ⁻¹ extrapolated in body components.
     previousRotationOffset_ = Log(rotationT * motion.previousRotation);
-    Real3 const omegaMix = stage.aVelocity * bodyOmega + stage.bVelocity * bodyOmegaPrevious;
+    Real3 const previousRate =
+        LeftJacobianInverse(previousRotationOffset_) * (rotationT * motion.previousAngularVelocity);
+    Real3 const bodyOmegaPrevious = motion.previousRotation.conjugate() * motion.previousAngularVelocity;
+    Real3 const omegaMix = stage.aVelocity * bodyOmega + stage.bVelocity * previousRate;
+    Real3 const predicted = stage.cPrevious * previousRotationOffset_ + betaH * omegaMix;
     Real3 const omegaExtrapolated = 2 * bodyOmega - bodyOmegaPrevious;
     Real3 const gyroscopic = omegaExtrapolated.cross(inertia.asDiagonal() * omegaExtrapolated);
-    targetRotation_ = stage.cPrevious * previousRotationOffset_ + betaH * omegaMix -
-                      betaH * betaH * inertia.cwiseInverse().asDiagonal() * gyroscopic;
+    targetRotation_ =
+        predicted - betaH * betaH * (RightJacobianInverse(predicted) * (inertia.cwiseInverse().asDiagonal() * gyroscopic));
   } else {
     targetRotation_ = betaH * SolveMomentumConservingRotation(inertia, bodyOmega, betaH);
   }
@@ -111,7 +120,10 @@ Real33 RigidInertiaStage::RotationHessian(Quat const& rotation) const {
 void RigidInertiaStage::End(Real3 const& position, Quat const& rotation, RigidBodyMotion& motion) const {
   real const betaH = stage_.beta * stage_.duration;
   Real3 const velocity = (position - startPosition_ - stage_.cPrevious * previousOffset_) / betaH;
-  Real3 const bodyOmega = (StageRotation(rotation) - stage_.cPrevious * previousRotationOffset_) / betaH;
+  // the chart rate ẋ = (x − c Δₚ)/(β h) at x = φ, and ω = Rⁿ J_l(φ) ẋ in the
+  // world (exact for backward Euler's torque-free step, where ẋ ∥ φ)
+  Real3 const phi = StageRotation(rotation);
+  Real3 const bodyOmega = LeftJacobian(phi) * ((phi - stage_.cPrevious * previousRotationOffset_) / betaH);
   motion.previousPosition = startPosition_;
   motion.previousRotation = startRotation_;
   motion.previousLinearVelocity = motion.linearVelocity;
