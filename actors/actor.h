@@ -27,6 +27,28 @@ struct ActorTestAccess;  // defined by white-box tests only
 struct ActorSnapshot {
   virtual ~ActorSnapshot() = default;
 };
+
+/// The snapshot of an actor whose whole dynamic state is one copyable State.
+template <class State>
+struct StateSnapshot final : ActorSnapshot {
+  State state;
+};
+
+/// Copies `state` into `snapshot`, allocating it on first use only.
+template <class State>
+void SaveStateSnapshot(State const& state, std::unique_ptr<ActorSnapshot>& snapshot) {
+  auto* own = dynamic_cast<StateSnapshot<State>*>(snapshot.get());
+  if (!own) {
+    snapshot = std::make_unique<StateSnapshot<State>>();
+    own = static_cast<StateSnapshot<State>*>(snapshot.get());
+  }
+  own->state = state;
+}
+
+template <class State>
+void RestoreStateSnapshot(ActorSnapshot const& snapshot, State& state) {
+  state = static_cast<StateSnapshot<State> const&>(snapshot).state;
+}
 }  // namespace internal
 
 class Actor {

@@ -657,16 +657,11 @@ void ArticulatedActor::EndStage() {
 }
 
 void ArticulatedActor::SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const {
-  auto* own = dynamic_cast<Snapshot*>(snapshot.get());
-  if (!own) {
-    snapshot = std::make_unique<Snapshot>();
-    own = static_cast<Snapshot*>(snapshot.get());
-  }
-  own->state = state_;
+  internal::SaveStateSnapshot(state_, snapshot);
 }
 
 void ArticulatedActor::RestoreSnapshot(internal::ActorSnapshot const& snapshot) {
-  state_ = static_cast<Snapshot const&>(snapshot).state;
+  internal::RestoreStateSnapshot(snapshot, state_);
 }
 
 }  // namespace superdex

@@ -158,9 +158,6 @@ class ArticulatedActor final : public Actor {
     DynamicArray<JointState> previousJoints;
     VectorX previousJointVelocity;
   };
-  struct Snapshot final : internal::ActorSnapshot {
-    State state;
-  };
   /// Forward kinematics of one configuration: link frames, centres of mass,
   /// joint frames and each DoF's world motion (ω, v at the origin).
   struct Kinematics {

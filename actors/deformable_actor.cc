@@ -312,16 +312,11 @@ void DeformableActor::EndStage() {
 }
 
 void DeformableActor::SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const {
-  auto* own = dynamic_cast<Snapshot*>(snapshot.get());
-  if (!own) {
-    snapshot = std::make_unique<Snapshot>();
-    own = static_cast<Snapshot*>(snapshot.get());
-  }
-  own->state = state_;
+  internal::SaveStateSnapshot(state_, snapshot);
 }
 
 void DeformableActor::RestoreSnapshot(internal::ActorSnapshot const& snapshot) {
-  state_ = static_cast<Snapshot const&>(snapshot).state;
+  internal::RestoreStateSnapshot(snapshot, state_);
 }
 
 }  // namespace superdex

@@ -87,9 +87,6 @@ class DeformableActor final : public NodalActor {
     bool hasHistory = false;
     DynamicArray<Real3> previousDisplacement, previousVelocity;
   };
-  struct Snapshot final : internal::ActorSnapshot {
-    State state;
-  };
 
   void AppendDofBlockSizes(DynamicArray<int>& sizes) const override;
   void WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const override;

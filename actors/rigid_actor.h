@@ -63,9 +63,6 @@ class RigidActor final : public Actor {
   RigidActor() : Actor(ActorType::Rigid, kNumDofs) {}
 
   using State = internal::RigidBodyMotion;
-  struct Snapshot final : internal::ActorSnapshot {
-    State state;
-  };
 
   void AppendDofBlockSizes(DynamicArray<int>& sizes) const override;
   void WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const override;

@@ -106,9 +106,6 @@ class RodActor final : public NodalActor {
     DynamicArray<Real3> previousDisplacement, previousVelocity;
     DynamicArray<real> previousTwist, previousTwistVelocity;
   };
-  struct Snapshot final : internal::ActorSnapshot {
-    State state;
-  };
 
   void AppendDofBlockSizes(DynamicArray<int>& sizes) const override;
   void WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const override;

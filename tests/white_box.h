@@ -111,6 +111,31 @@ inline MatrixX DenseNaturalHessian(internal::HessianAssembler const& assembler) 
   return natural;
 }
 
+/// An actor's stage gradient and assembled Hessian (dense, natural order) at
+/// its current iterate, alone in a pattern of its own (`ordering` for it).
+struct ActorDerivatives {
+  VectorX gradient;
+  MatrixX hessian;
+};
+
+inline ActorDerivatives AssembleActor(Actor const& actor, bool projectHessian,
+                                      OrderingMethod ordering = OrderingMethod::Natural) {
+  int const n = actor.GetNumDofs();
+  DynamicArray<DynamicArray<int>> contributors;
+  DynamicArray<int> blocks;
+  internal::ActorTestAccess::AppendContributorDofs(actor, contributors);
+  internal::ActorTestAccess::AppendDofBlockSizes(actor, blocks);
+  internal::HessianAssembler assembler;
+  Error error;
+  bool const analyzed = assembler.Analyze(n, blocks, contributors, ordering, error);
+  INFO(error.ToString());
+  REQUIRE(analyzed);
+  DynamicArray<real> gradient(n, 0);
+  assembler.ZeroValues();
+  internal::ActorTestAccess::AddGradientAndHessian(actor, gradient, assembler, 0, projectHessian);
+  return {Eigen::Map<VectorX const>(gradient.data(), n), DenseNaturalHessian(assembler)};
+}
+
 /// Moves `body` by the tangent increment ε e_dof from (position, rotation):
 /// dof 0..2 translate, dof 3..5 rotate in the world frame, R ← Exp(ε e) R.
 inline void SetPerturbedPose(RigidActor& body, Real3 const& position, Quat const& rotation, int dof,

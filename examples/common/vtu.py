@@ -29,9 +29,9 @@ def read_pvd(path):
     ]
 
 
-def read_vtu(path, cell_type):
-    """points (n×3), the cells of `cell_type` (m×nodes) and the point arrays
-    (name → n×k) of an ASCII .vtu."""
+def _read_piece(path):
+    """points (n×3), the cells as (start, end, type) index ranges into the
+    connectivity, the connectivity and the point arrays (name → n×k)."""
     piece = ET.parse(path).getroot().find("UnstructuredGrid/Piece")
 
     def values(array, dtype=float):
@@ -43,36 +43,28 @@ def read_vtu(path, cell_type):
     offsets = values(cells["offsets"], int)
     types = values(cells["types"], int)
     starts = np.concatenate([[0], offsets[:-1]])
-    n = _NODES[cell_type]
-    kept = np.array([connectivity[s:s + n] for s, t in zip(starts, types) if t == cell_type], dtype=int)
     data = {}
     point_data = piece.find("PointData")
     for array in [] if point_data is None else point_data:
         k = int(array.get("NumberOfComponents", "1"))
         data[array.get("Name")] = values(array).reshape(-1, k).squeeze()
+    return points, list(zip(starts, offsets, types)), connectivity, data
+
+
+def read_vtu(path, cell_type):
+    """points (n×3), the cells of `cell_type` (m×nodes) and the point arrays
+    (name → n×k) of an ASCII .vtu."""
+    points, cells, connectivity, data = _read_piece(path)
+    n = _NODES[cell_type]
+    kept = np.array([connectivity[s:s + n] for s, _, t in cells if t == cell_type], dtype=int)
     return points, kept.reshape(-1, n), data
 
 
 def read_polylines(path):
     """points (n×3), the polylines (a list of index arrays) and the point
     arrays (name → n×k) of an ASCII .vtu of polylines (WriteRodsVtu)."""
-    piece = ET.parse(path).getroot().find("UnstructuredGrid/Piece")
-
-    def values(array, dtype=float):
-        return np.array(array.text.split(), dtype=dtype)
-
-    points = values(piece.find("Points/DataArray")).reshape(-1, 3)
-    cells = {a.get("Name"): a for a in piece.find("Cells")}
-    connectivity = values(cells["connectivity"], int)
-    offsets = values(cells["offsets"], int)
-    types = values(cells["types"], int)
-    starts = np.concatenate([[0], offsets[:-1]])
-    lines = [connectivity[s:e] for s, e, t in zip(starts, offsets, types) if t == VTK_POLY_LINE]
-    data = {}
-    point_data = piece.find("PointData")
-    for array in [] if point_data is None else point_data:
-        k = int(array.get("NumberOfComponents", "1"))
-        data[array.get("Name")] = values(array).reshape(-1, k).squeeze()
+    points, cells, connectivity, data = _read_piece(path)
+    lines = [connectivity[s:e] for s, e, t in cells if t == VTK_POLY_LINE]
     return points, lines, data
 
 

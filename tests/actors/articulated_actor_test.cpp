@@ -90,16 +90,8 @@ TEST_CASE("articulated potential: gradient and exact Hessian match differences o
   ActorTestAccess::SaveIterate(*actor);
   ActorTestAccess::ApplyIncrementFromSaved(*actor, offset, 1);
 
-  DynamicArray<DynamicArray<int>> contributors;
-  DynamicArray<int> blocks;
-  ActorTestAccess::AppendContributorDofs(*actor, contributors);
-  ActorTestAccess::AppendDofBlockSizes(*actor, blocks);
-  internal::HessianAssembler assembler;
-  REQUIRE(assembler.Analyze(n, blocks, contributors, OrderingMethod::Natural, error));
-  DynamicArray<real> gradient(n, 0);
-  assembler.ZeroValues();
-  ActorTestAccess::AddGradientAndHessian(*actor, gradient, assembler, 0, false);
-  MatrixX const hessian = DenseNaturalHessian(assembler);
+  ActorDerivatives const exact = AssembleActor(*actor, false);
+  MatrixX const& hessian = exact.hessian;
 
   ActorTestAccess::SaveIterate(*actor);
   auto energyAt = [&](VectorX const& d) {
@@ -121,7 +113,7 @@ TEST_CASE("articulated potential: gradient and exact Hessian match differences o
     }
   }
   ActorTestAccess::RestoreIterate(*actor);
-  VectorX const analytic = Eigen::Map<VectorX const>(gradient.data(), n);
+  VectorX const& analytic = exact.gradient;
   real const gScale = analytic.lpNorm<Eigen::Infinity>(), hScale = hessian.lpNorm<Eigen::Infinity>();
   CAPTURE(gScale, hScale);
   REQUIRE(gScale > 1);
@@ -133,10 +125,7 @@ TEST_CASE("articulated potential: gradient and exact Hessian match differences o
   CAPTURE(MatrixX(hessian - fdHessian));
   REQUIRE((hessian - fdHessian).lpNorm<Eigen::Infinity>() <= 1e-5 * hScale);
   // the curvature terms matter: the Gauss–Newton block alone is off
-  DynamicArray<real> unused(n, 0);
-  assembler.ZeroValues();
-  ActorTestAccess::AddGradientAndHessian(*actor, unused, assembler, 0, true);
-  MatrixX const projected = DenseNaturalHessian(assembler);
+  MatrixX const projected = AssembleActor(*actor, true).hessian;
   REQUIRE((projected - fdHessian).lpNorm<Eigen::Infinity>() > 1e-3 * hScale);
   REQUIRE(Eigen::SelfAdjointEigenSolver<MatrixX>(projected).eigenvalues().minCoeff() > 0);
 }
@@ -151,19 +140,9 @@ TEST_CASE("articulated: at the stage start the projected Hessian is w M(q) from 
   for (auto& link : params.links) link.initialVelocity.clear();  // Newton starts at the stage start
   ArticulatedActor* actor = scene->CreateArticulatedActor(params, error);
   REQUIRE(actor);
-  int const n = actor->GetNumDofs();
   real const h = 0.02;
   ActorTestAccess::BeginStage(*actor, internal::MakeStage(IntegratorType::BackwardEuler, h, false), Real3::Zero());
-  DynamicArray<DynamicArray<int>> contributors;
-  DynamicArray<int> blocks;
-  ActorTestAccess::AppendContributorDofs(*actor, contributors);
-  ActorTestAccess::AppendDofBlockSizes(*actor, blocks);
-  internal::HessianAssembler assembler;
-  REQUIRE(assembler.Analyze(n, blocks, contributors, OrderingMethod::Natural, error));
-  DynamicArray<real> gradient(n, 0);
-  assembler.ZeroValues();
-  ActorTestAccess::AddGradientAndHessian(*actor, gradient, assembler, 0, true);
-  MatrixX hessian = DenseNaturalHessian(assembler);
+  MatrixX hessian = AssembleActor(*actor, true).hessian;
   // damping d/h on the revolute (DoF after the root's and the spherical's) and prismatic joints
   int const first = floating ? 6 : 1;
   hessian(first + 3, first + 3) -= 0.3 / h;

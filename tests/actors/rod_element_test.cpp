@@ -270,17 +270,11 @@ TEST_CASE("the rod actor's assembled stage gradient and Hessian match finite dif
   ActorTestAccess::SaveIterate(*rod);
   ActorTestAccess::ApplyIncrementFromSaved(*rod, offset, 1);
 
-  DynamicArray<DynamicArray<int>> contributors;
   DynamicArray<int> blocks;
-  ActorTestAccess::AppendContributorDofs(*rod, contributors);
   ActorTestAccess::AppendDofBlockSizes(*rod, blocks);
   REQUIRE(blocks == DynamicArray<int>(numNodes, 4));
-  internal::HessianAssembler assembler;
-  REQUIRE(assembler.Analyze(n, blocks, contributors, OrderingMethod::Metis, error));
-  DynamicArray<real> gradient(n, 0);
-  assembler.ZeroValues();
-  ActorTestAccess::AddGradientAndHessian(*rod, gradient, assembler, 0, false);
-  MatrixX const hessian = DenseNaturalHessian(assembler);
+  ActorDerivatives const analytic = AssembleActor(*rod, false, OrderingMethod::Metis);
+  MatrixX const& hessian = analytic.hessian;
 
   real const eps = 1e-6;
   ActorTestAccess::SaveIterate(*rod);
@@ -288,26 +282,22 @@ TEST_CASE("the rod actor's assembled stage gradient and Hessian match finite dif
   VectorX fdGradient(n);
   MatrixX fdHessian(n, n);
   for (int j = 0; j < n; ++j) {
-    DynamicArray<real> gPlus(n, 0), gMinus(n, 0);
     delta[j] = eps;
     ActorTestAccess::ApplyIncrementFromSaved(*rod, delta, 1);
     real const plus = ActorTestAccess::Energy(*rod);
-    assembler.ZeroValues();
-    ActorTestAccess::AddGradientAndHessian(*rod, gPlus, assembler, 0, false);
+    VectorX const gPlus = AssembleActor(*rod, false).gradient;
     ActorTestAccess::ApplyIncrementFromSaved(*rod, delta, -1);
     real const minus = ActorTestAccess::Energy(*rod);
-    assembler.ZeroValues();
-    ActorTestAccess::AddGradientAndHessian(*rod, gMinus, assembler, 0, false);
+    VectorX const gMinus = AssembleActor(*rod, false).gradient;
     delta[j] = 0;
     fdGradient[j] = (plus - minus) / (2 * eps);
-    for (int i = 0; i < n; ++i) fdHessian(i, j) = (gPlus[i] - gMinus[i]) / (2 * eps);
+    fdHessian.col(j) = (gPlus - gMinus) / (2 * eps);
   }
   ActorTestAccess::RestoreIterate(*rod);
-  VectorX const analytic = Eigen::Map<VectorX const>(gradient.data(), n);
-  real const gScale = analytic.lpNorm<Eigen::Infinity>(), hScale = hessian.lpNorm<Eigen::Infinity>();
+  real const gScale = analytic.gradient.lpNorm<Eigen::Infinity>(), hScale = hessian.lpNorm<Eigen::Infinity>();
   CAPTURE(gScale, hScale);
   REQUIRE(gScale > 1e-2);
-  REQUIRE((analytic - fdGradient).lpNorm<Eigen::Infinity>() <= 1e-6 * gScale);
+  REQUIRE((analytic.gradient - fdGradient).lpNorm<Eigen::Infinity>() <= 1e-6 * gScale);
   REQUIRE((hessian - fdHessian).lpNorm<Eigen::Infinity>() <= 1e-6 * hScale);
   // the twist DoFs are coupled to the positions (bending–twisting stencils)
   REQUIRE(std::abs(hessian(3, 4)) + std::abs(hessian(3, 8)) > 0);
@@ -331,16 +321,7 @@ TEST_CASE("the rod's rigid-body modes span the null space of its elastic Hessian
   REQUIRE(rod);
   int const n = rod->GetNumDofs();
   ActorTestAccess::BeginStage(*rod, internal::MakeStage(IntegratorType::BackwardEuler, 1e6, false), Real3::Zero());
-  DynamicArray<DynamicArray<int>> contributors;
-  DynamicArray<int> blocks;
-  ActorTestAccess::AppendContributorDofs(*rod, contributors);
-  ActorTestAccess::AppendDofBlockSizes(*rod, blocks);
-  internal::HessianAssembler assembler;
-  REQUIRE(assembler.Analyze(n, blocks, contributors, OrderingMethod::Natural, error));
-  DynamicArray<real> gradient(n, 0);
-  assembler.ZeroValues();
-  ActorTestAccess::AddGradientAndHessian(*rod, gradient, assembler, 0, false);
-  MatrixX const hessian = DenseNaturalHessian(assembler);
+  MatrixX const hessian = AssembleActor(*rod, false).hessian;
   MatrixX modes = MatrixX::Zero(n, 6);
   ActorTestAccess::WriteRigidBodyModes(*rod, modes);
   // rotations turn the twists too (a twist-free mode would not be in the null space)
