@@ -18,6 +18,7 @@
 #include <superdex/actors/rod_actor.h>
 #include <superdex/actors/rod_element.h>
 
+#include <superdex/constraints/articulated_joint_constraints.h>
 #include <superdex/constraints/constraint.h>
 #include <superdex/constraints/deformable_node_position.h>
 #include <superdex/constraints/deformable_node_to_deformable_node.h>

@@ -115,6 +115,11 @@ class ArticulatedActor final : public Actor {
   DynamicArray<real> GetJointVelocities() const;
   /// R_j of a spherical or free joint (identity = rest); identity otherwise.
   Quat GetJointRotation(int link) const { return state_.joints[link].rotation; }
+  /// A translational or single-rotation coordinate: the revolute angle or
+  /// prismatic offset (dof 0), or a free joint's translation p[dof] (dof 0..2).
+  real GetJointCoordinate(int link, int dof) const {
+    return links_[link].joint == JointType::Free ? state_.joints[link].translation[dof] : state_.joints[link].scalar;
+  }
 
   real GetKineticEnergy() const;
   Real3 GetLinearMomentum() const;

@@ -157,9 +157,10 @@ template <class T>
 T* Scene::GetActorAs(ActorHandle handle, std::string_view field, Error& error) const {
   // NodalActor: deformable or rod
   constexpr bool kNodal = std::is_same_v<T, NodalActor>;
-  constexpr ActorType kType = std::is_same_v<T, RigidActor> ? ActorType::Rigid
-                              : std::is_same_v<T, RodActor> ? ActorType::Rod
-                                                            : ActorType::Deformable;
+  constexpr ActorType kType = std::is_same_v<T, RigidActor>         ? ActorType::Rigid
+                              : std::is_same_v<T, RodActor>         ? ActorType::Rod
+                              : std::is_same_v<T, ArticulatedActor> ? ActorType::Articulated
+                                                                    : ActorType::Deformable;
   Actor* actor = actors_.Get(handle);
   if (!actor) {
     error.Set(ErrorCode::InvalidHandle,
@@ -384,6 +385,88 @@ Constraint* Scene::CreateRodElementRotationToRigidConstraint(
   if (!CheckField(p.jointFrame, kParams, "jointFrame", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<RodElementRotationToRigidConstraint>(r, rod, p));
+}
+
+ArticulatedActor* Scene::GetArticulatedJoint(ActorHandle handle, int joint, int dof, bool rotation,
+                                             std::string_view paramsName, Error& error) const {
+  std::string const prefix = std::string(paramsName) + ".";
+  auto* actor = GetActorAs<ArticulatedActor>(handle, prefix + "actor", error);
+  if (!actor) return nullptr;
+  if (joint < 0 || joint >= actor->GetNumLinks()) {
+    error.Set(ErrorCode::InvalidArgument, prefix + "jointIndex must be in [0, " +
+                                              std::to_string(actor->GetNumLinks()) + "), got " + std::to_string(joint));
+    return nullptr;
+  }
+  JointType const type = actor->GetJointType(joint);
+  std::string const jointText = prefix + "jointIndex = " + std::to_string(joint) + " is a " +
+                                std::string(ToString(type)) + " joint";
+  if (rotation) {
+    if (type != JointType::Spherical && type != JointType::Free) {
+      error.Set(ErrorCode::InvalidArgument,
+                jointText + ": the 3D rotation types act on spherical joints and free joints' rotations");
+      return nullptr;
+    }
+    return actor;
+  }
+  if (type == JointType::Spherical || type == JointType::Fixed) {
+    error.Set(ErrorCode::InvalidArgument,
+              jointText + ": the single-DoF types act on revolute and prismatic joints and free joints' "
+                          "translations (for a spherical joint use Articulated3dRotationTarget/Range)");
+    return nullptr;
+  }
+  int const numDofs = type == JointType::Free ? 3 : 1;
+  if (dof < 0 || dof >= numDofs) {
+    error.Set(ErrorCode::InvalidArgument,
+              prefix + "dofIndex must be in [0, " + std::to_string(numDofs) + ") for a " +
+                  std::string(ToString(type)) + " joint, got " + std::to_string(dof) +
+                  (type == JointType::Free && dof >= 3 && dof < 6
+                       ? " (a free joint's rotation: use Articulated3dRotationTarget/Range)"
+                       : ""));
+    return nullptr;
+  }
+  return actor;
+}
+
+Constraint* Scene::CreateArticulatedSingleDofTargetConstraint(ArticulatedSingleDofTargetConstraintParams const& p,
+                                                              Error& error) {
+  constexpr std::string_view kParams = "ArticulatedSingleDofTargetConstraintParams";
+  ArticulatedActor* a = GetArticulatedJoint(p.actor, p.jointIndex, p.dofIndex, false, kParams, error);
+  if (!a || !internal::CheckFinite(p.target, std::string(kParams) + ".target", error) ||
+      !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<ArticulatedSingleDofConstraint>(a, p));
+}
+
+Constraint* Scene::CreateArticulatedSingleDofRangeConstraint(ArticulatedSingleDofRangeConstraintParams const& p,
+                                                             Error& error) {
+  constexpr std::string_view kParams = "ArticulatedSingleDofRangeConstraintParams";
+  ArticulatedActor* a = GetArticulatedJoint(p.actor, p.jointIndex, p.dofIndex, false, kParams, error);
+  if (!a || !CheckLimits(p.lowerLimit, p.upperLimit, std::string(kParams) + ".lowerLimit/upperLimit", error) ||
+      !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<ArticulatedSingleDofConstraint>(a, p));
+}
+
+Constraint* Scene::CreateArticulated3dRotationTargetConstraint(Articulated3dRotationTargetConstraintParams const& p,
+                                                               Error& error) {
+  constexpr std::string_view kParams = "Articulated3dRotationTargetConstraintParams";
+  ArticulatedActor* a = GetArticulatedJoint(p.actor, p.jointIndex, 0, true, kParams, error);
+  if (!a || !CheckField(p.rotation, kParams, "rotation", error) || !CheckCompliance(p, kParams, error))
+    return nullptr;
+  return AddConstraint(std::make_unique<Articulated3dRotationConstraint>(a, p));
+}
+
+Constraint* Scene::CreateArticulated3dRotationRangeConstraint(Articulated3dRotationRangeConstraintParams const& p,
+                                                              Error& error) {
+  constexpr std::string_view kParams = "Articulated3dRotationRangeConstraintParams";
+  ArticulatedActor* a = GetArticulatedJoint(p.actor, p.jointIndex, 0, true, kParams, error);
+  if (!a) return nullptr;
+  for (int j = 0; j < 3; ++j)
+    if (!CheckLimits(p.lowerLimits[j], p.upperLimits[j],
+                     std::string(kParams) + ".lowerLimits/upperLimits[" + std::to_string(j) + "]", error))
+      return nullptr;
+  if (!CheckCompliance(p, kParams, error)) return nullptr;
+  return AddConstraint(std::make_unique<Articulated3dRotationConstraint>(a, p));
 }
 
 Constraint* Scene::GetConstraint(ConstraintHandle handle) const { return constraints_.Get(handle); }

@@ -16,6 +16,7 @@
 #include <superdex/actors/deformable_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/actors/rod_actor.h>
+#include <superdex/constraints/articulated_joint_constraints.h>
 #include <superdex/constraints/constraint.h>
 #include <superdex/constraints/deformable_node_position.h>
 #include <superdex/constraints/deformable_node_to_deformable_node.h>
@@ -92,6 +93,14 @@ class Scene {
       DeformableNodeToRigidConstraintParams const& params, Error& error);
   Constraint* CreateRodElementRotationToRigidConstraint(
       RodElementRotationToRigidConstraintParams const& params, Error& error);
+  Constraint* CreateArticulatedSingleDofTargetConstraint(
+      ArticulatedSingleDofTargetConstraintParams const& params, Error& error);
+  Constraint* CreateArticulatedSingleDofRangeConstraint(
+      ArticulatedSingleDofRangeConstraintParams const& params, Error& error);
+  Constraint* CreateArticulated3dRotationTargetConstraint(
+      Articulated3dRotationTargetConstraintParams const& params, Error& error);
+  Constraint* CreateArticulated3dRotationRangeConstraint(
+      Articulated3dRotationRangeConstraintParams const& params, Error& error);
   /// The constraint, or nullptr for a null or stale handle.
   Constraint* GetConstraint(ConstraintHandle handle) const;
   void ForEachConstraint(std::function<void(Constraint&)> const& fn) const;
@@ -133,6 +142,11 @@ class Scene {
   NodalActor* GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
                                      std::string_view actorField, std::string_view nodeField,
                                      Error& error) const;
+  /// A live articulated actor and a joint of it that takes `kind` (single
+  /// DoF: revolute, prismatic, a free joint's translation `dof`; rotation:
+  /// spherical or free), or nullptr with the error.
+  ArticulatedActor* GetArticulatedJoint(ActorHandle handle, int joint, int dof, bool rotation,
+                                        std::string_view paramsName, Error& error) const;
   /// Two live, distinct rigid actors for `actorA`/`actorB` of `params`.
   bool GetRigidPair(ActorHandle actorA, ActorHandle actorB, std::string_view paramsName,
                     RigidActor*& a, RigidActor*& b, Error& error) const;

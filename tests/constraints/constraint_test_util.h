@@ -15,6 +15,7 @@
 
 namespace superdex::test {
 
+using internal::ActorTestAccess;
 using internal::ConstraintTestAccess;
 
 struct Pose {
@@ -193,4 +194,48 @@ MatrixX CentralDifferenceOverDofs(Constraint const& c, real epsilon, F const& f)
   return result;
 }
 
+/// J against central differences over the constraint's global DoFs; the
+/// columns in `zeroColumns` must vanish (DoFs listed but not acting), every
+/// other one must not
+inline void CheckJacobian(Scene& scene, Constraint& c, DynamicArray<int> const& zeroColumns = {},
+                          real tolerance = 1e-6) {
+  int const m = c.GetDimension(), n = c.GetNumDofs();
+  internal::ConstraintWorkspace ws;
+  ws.Reserve(m, n);
+  ConstraintTestAccess::EvaluateCurrent(c, ws);
+  MatrixX const jacobian = ws.jacobian.topLeftCorner(m, n);
+  DynamicArray<int> const& dofs = ConstraintTestAccess::Dofs(c);
+  DynamicArray<real> delta(scene.GetNumDofs(), 0);
+  real const eps = 1e-6;
+  MatrixX fd(m, n);
+  for (int j = 0; j < n; ++j) {
+    Actor* owner = nullptr;
+    for (int a = 0; a < c.GetNumActors(); ++a) {
+      Actor* actor = c.GetActor(a);
+      if (dofs[j] >= actor->GetDofOffset() && dofs[j] < actor->GetDofOffset() + actor->GetNumDofs())
+        owner = actor;
+    }
+    REQUIRE(owner);
+    ActorTestAccess::SaveIterate(*owner);
+    delta[dofs[j]] = eps;
+    ActorTestAccess::ApplyIncrementFromSaved(*owner, delta, 1);
+    VectorX const plus = Deviation(c);
+    ActorTestAccess::ApplyIncrementFromSaved(*owner, delta, -1);
+    VectorX const minus = Deviation(c);
+    ActorTestAccess::RestoreIterate(*owner);
+    delta[dofs[j]] = 0;
+    fd.col(j) = (plus - minus) / (2 * eps);
+    CAPTURE(j);
+    bool const zero = std::find(zeroColumns.begin(), zeroColumns.end(), j) != zeroColumns.end();
+    if (zero) {
+      REQUIRE(fd.col(j).norm() <= 1e-9);
+      REQUIRE(jacobian.col(j).isZero());
+    } else {
+      REQUIRE(fd.col(j).norm() > 0.05);
+    }
+  }
+  CAPTURE(jacobian, fd);
+  // smooth g: ε = 1e-6 gives ~1e-10 error against O(1) entries
+  REQUIRE((jacobian - fd).cwiseAbs().maxCoeff() <= tolerance);
+}
 }  // namespace superdex::test
