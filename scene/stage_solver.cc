@@ -160,8 +160,11 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
   if (!EnsureSolverReady(actors, stats, error)) return false;
   bool const inexact = solver_->IsIterative() && pcg_.adaptiveTolerance;
 
-  for (Actor* actor : actors) actor->BeginStage(stage, gravity);
+  // constraints first: g(qᵢ⁰, p̂ᵢ⁰) at the committed configuration, before an
+  // actor moves its first Newton iterate to its prediction (deformables,
+  // rods and articulated actors do)
   for (Constraint* constraint : constraints) constraint->BeginStage(constraintWorkspace_);
+  for (Actor* actor : actors) actor->BeginStage(stage, gravity);
 
   real energy = TotalEnergy(actors, constraints, h);
   if (!std::isfinite(energy)) {
