@@ -286,6 +286,36 @@ bool BuildRods(Cells const& cells, double ratio, FamilyScene& out, Error& error)
   return true;
 }
 
+/// The chain's N boxes as one articulated actor: spherical joints at the
+/// same points (the root one at the origin, on the world), exact instead of
+/// compliant — the same mechanism and the same link inertia terms, so the
+/// two families differ only in how the joints are modelled. The stiffness
+/// ratio has no joint stiffness to act on and is ignored.
+bool BuildArticulatedChain(Cells const& cells, double /*ratio*/, FamilyScene& out, Error& error) {
+  int const n = cells[0];
+  ArticulatedActorParams params;
+  real const side2 = kLinkSide * kLinkSide, length2 = kLinkLength * kLinkLength;
+  for (int i = 0; i < n; ++i) {
+    ArticulatedLinkParams link;
+    link.parent = i - 1;
+    link.joint = JointType::Spherical;
+    link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(kLinkLength, 0, 0);
+    link.mass = kLinkMass;
+    link.inertia = kLinkMass / 12 * Real3(2 * side2, length2 + side2, length2 + side2);
+    link.centerOfMass = Real3(kLinkLength / 2, 0, 0);
+    params.links.push_back(link);
+  }
+  ArticulatedActor* chain = out.scene->CreateArticulatedActor(params, error);
+  if (!chain) return false;
+  out.length = n * kLinkLength;
+  out.trackedPositions = [chain, n] {
+    DynamicArray<Real3> positions;
+    for (int i = 0; i < n; ++i) positions.push_back(chain->GetLinkCenterOfMass(i));
+    return positions;
+  };
+  return true;
+}
+
 struct Family {
   std::string_view name;
   std::string_view sizePrefix;  ///< before the counts: "N=" for the chain
@@ -298,7 +328,7 @@ struct Family {
   bool (*build)(Cells const&, double, FamilyScene&, Error&);
 };
 
-std::array<Family, 4> const kFamilies{{
+std::array<Family, 5> const kFamilies{{
     {"cantilever", "", 3, "40x8x8", "E", kBeamYoung, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return 3 * (c[0] + 1) * (c[1] + 1) * (c[2] + 1); }, BuildCantilever},
     {"cloth", "", 2, "32x32", "E", kClothYoung, kClothNewtonMaxIterations,
@@ -307,6 +337,8 @@ std::array<Family, 4> const kFamilies{{
      [](Cells const& c) { return RigidActor::kNumDofs * c[0]; }, BuildChain},
     {"rods", "", 2, "100x250", "E", kRodYoung, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return 4 * c[0] * c[1] + RigidActor::kNumDofs; }, BuildRods},
+    {"chain-articulated", "N=", 1, "N=50", "k", 0, kDefaultNewtonMaxIterations,
+     [](Cells const& c) { return 3 * c[0]; }, BuildArticulatedChain},
 }};
 
 Family const* FindFamily(std::string_view name) {
@@ -320,7 +352,7 @@ Family const* Resolve(std::string const& family, std::string const& size, Cells&
                       std::string& message) {
   Family const* f = FindFamily(family);
   if (!f) {
-    message = "unknown family '" + family + "' (cantilever, cloth, chain, rods)";
+    message = "unknown family '" + family + "' (cantilever, cloth, chain, rods, chain-articulated)";
     return nullptr;
   }
   if (!ParseCounts(size, f->sizePrefix, 'x', f->numCounts, cells)) {
@@ -347,6 +379,7 @@ int CountDofs(std::string const& family, std::string const& size, std::string& m
 std::string MaterialLabel(std::string const& family, double stiffnessRatio) {
   Family const* f = FindFamily(family);
   if (!f) return "";
+  if (f->baseStiffness == 0) return "exact joints";  // nothing for the ratio to scale
   return std::string(f->stiffnessSymbol) + "=" + ShortNumber(f->baseStiffness * stiffnessRatio);
 }
 

@@ -6,6 +6,9 @@
 //   cantilever  tetrahedral beam 1 × 0.2 × 0.2 m, size "NXxNYxNZ" (cells)
 //   cloth       pinned shell sheet 1 × 1 m, size "NxN" (quads)
 //   chain       rigid boxes joined by spherical joints, size "N=50" (bodies)
+//   rods        R rods × N nodes clamped to a held plate, size "100x250"
+//   chain-articulated  the chain's boxes as one articulated actor (exact
+//               spherical joints), size "N=50" (links)
 //   rods        R discrete elastic rods of N nodes, 1 m, clamped to an
 //               anchored rigid plate, size "RxN" (DoFs 4·R·N + 6)
 //

@@ -185,6 +185,7 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     // rods: pcg-gamg left out (its default Chebyshev smoothers give an
     // indefinite preconditioner on rods of >= 50 nodes, README.md)
     b.Scaling("rods", {"4x10"}, {"cholmod", "pcg-jacobi"}, 2);
+    b.Scaling("chain-articulated", {"N=5"}, {"cholmod", "dense"}, 2, "scaling", {"1"}, chainDt);
     return true;
   }
   Labels const quickMethods{"cholmod",      "cholmod-amd", "dense",    "pcg-jacobi",
@@ -194,6 +195,9 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Scaling("cantilever", {"10x2x2", "20x4x4", "30x6x6", "40x8x8", "50x10x10"}, quickMethods, 5);
     b.Scaling("cloth", {"12x12", "24x24", "48x48"}, quickMethods, 5);
     b.Scaling("chain", {"N=10", "N=50", "N=200"}, quickMethods, 5, "scaling", {"1"}, chainDt);
+    // the same chain as one articulated actor (exact joints, a dense block)
+    b.Scaling("chain-articulated", {"N=10", "N=50", "N=200"}, {"cholmod", "dense", "pcg-jacobi"}, 5, "scaling",
+              {"1"}, chainDt);
     // rods, 106 to 10,006 DoFs, without pcg-gamg: it fails at the first
     // solve from 50 nodes per rod on (README.md: the rods family; the full
     // suite shows it), which would make this suite's (and main.sh's) status 1
@@ -363,7 +367,7 @@ void PrintHelp() {
       "[--dry-run]\n"
       "      runs a suite, one child process per run; writes DIR/results.csv, DIR/results.json,\n"
       "      DIR/ref/ (reference positions) and DIR/logs/ (output of runs that printed any).\n"
-      "      --only FAMILY    only the runs of one family (cantilever, cloth, chain, rods)\n"
+      "      --only FAMILY    only the runs of one family (cantilever, cloth, chain, rods, chain-articulated)\n"
       "      --timeout S      per-run limit in seconds (default 600; tiny: 60)\n"
       "      --dry-run        list the runs without running them\n"
       "      Exit status 1 when a run outside the stability study failed.\n"

@@ -20,7 +20,7 @@ COLUMNS = (
 ).split()
 STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference")
 # every family of the harness (perf/harness/families.cc) has scaling runs in the tiny suite
-FAMILIES = ("cantilever", "cloth", "chain", "rods")
+FAMILIES = ("cantilever", "cloth", "chain", "rods", "chain-articulated")
 CHARTS = ("scaling.png", "phases.png", "work_precision_cantilever.png", "stability_cantilever.png")
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
