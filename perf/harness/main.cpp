@@ -195,9 +195,11 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Scaling("cantilever", {"10x2x2", "20x4x4", "30x6x6", "40x8x8", "50x10x10"}, quickMethods, 5);
     b.Scaling("cloth", {"12x12", "24x24", "48x48"}, quickMethods, 5);
     b.Scaling("chain", {"N=10", "N=50", "N=200"}, quickMethods, 5, "scaling", {"1"}, chainDt);
-    // the same chain as one articulated actor (exact joints, a dense block)
-    b.Scaling("chain-articulated", {"N=10", "N=50", "N=200"}, {"cholmod", "dense", "pcg-jacobi"}, 5, "scaling",
-              {"1"}, chainDt);
+    // the same chain as one articulated actor (exact joints, one dense block).
+    // Direct solvers only: Jacobi-PCG does not converge on the reduced-
+    // coordinate mass matrix of a long chain (N = 200: KSP_DIVERGED_ITS at
+    // 10000 iterations), which would make this suite's status 1
+    b.Scaling("chain-articulated", {"N=10", "N=50", "N=200"}, {"cholmod", "dense"}, 5, "scaling", {"1"}, chainDt);
     // rods, 106 to 10,006 DoFs, without pcg-gamg: it fails at the first
     // solve from 50 nodes per rod on (README.md: the rods family; the full
     // suite shows it), which would make this suite's (and main.sh's) status 1
