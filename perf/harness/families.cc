@@ -170,6 +170,38 @@ bool BuildCloth(Cells const& cells, double ratio, FamilyScene& out, Error& error
   return true;
 }
 
+/// A chain link's pose: centre of mass and rotation (body axes: x along the
+/// link).
+struct LinkPose {
+  Real3 center;
+  Quat rotation;
+};
+
+/// The mechanism probes of both chain families, from the same link poses:
+/// link i is held at its left end to link i − 1's right end (link 0 to the
+/// origin), each end kLinkLength / 2 from the centre along the link's x axis.
+void SetChainProbes(int n, std::function<LinkPose(int)> pose, std::function<real()> kinetic,
+                    FamilyScene& out) {
+  Real3 const gravity = out.scene->GetParams().gravity;
+  out.jointDrift = [n, pose] {
+    Real3 const half(kLinkLength / 2, 0, 0);
+    real drift = 0;
+    Real3 parentEnd = Real3::Zero();
+    for (int i = 0; i < n; ++i) {
+      LinkPose const p = pose(i);
+      drift = std::max(drift, (p.center - p.rotation * half - parentEnd).norm());
+      parentEnd = p.center + p.rotation * half;
+    }
+    return drift;
+  };
+  out.mechanicalEnergy = [n, pose, kinetic, gravity] {
+    real energy = kinetic();
+    for (int i = 0; i < n; ++i) energy -= kLinkMass * gravity.dot(pose(i).center);
+    return energy;
+  };
+  out.energyScale = n * kLinkMass * gravity.norm() * n * kLinkLength;
+}
+
 bool BuildChain(Cells const& cells, double ratio, FamilyScene& out, Error& error) {
   int const n = cells[0];
   real const stiffness = kJointStiffness * ratio;
@@ -205,6 +237,14 @@ bool BuildChain(Cells const& cells, double ratio, FamilyScene& out, Error& error
     for (RigidActor const* body : *bodies) positions.push_back(body->GetPosition());
     return positions;
   };
+  SetChainProbes(
+      n, [bodies](int i) { return LinkPose{(*bodies)[i]->GetPosition(), (*bodies)[i]->GetRotation()}; },
+      [bodies] {
+        real kinetic = 0;
+        for (RigidActor const* body : *bodies) kinetic += body->GetKineticEnergy();
+        return kinetic;
+      },
+      out);
   return true;
 }
 
@@ -313,6 +353,9 @@ bool BuildArticulatedChain(Cells const& cells, double /*ratio*/, FamilyScene& ou
     for (int i = 0; i < n; ++i) positions.push_back(chain->GetLinkCenterOfMass(i));
     return positions;
   };
+  SetChainProbes(
+      n, [chain](int i) { return LinkPose{chain->GetLinkCenterOfMass(i), chain->GetLinkRotation(i)}; },
+      [chain] { return chain->GetKineticEnergy(); }, out);
   return true;
 }
 

@@ -6,7 +6,6 @@
 //   cantilever  tetrahedral beam 1 × 0.2 × 0.2 m, size "NXxNYxNZ" (cells)
 //   cloth       pinned shell sheet 1 × 1 m, size "NxN" (quads)
 //   chain       rigid boxes joined by spherical joints, size "N=50" (bodies)
-//   rods        R rods × N nodes clamped to a held plate, size "100x250"
 //   chain-articulated  the chain's boxes as one articulated actor (exact
 //               spherical joints), size "N=50" (links)
 //   rods        R discrete elastic rods of N nodes, 1 m, clamped to an
@@ -33,6 +32,17 @@ struct FamilyScene {
   /// World positions of the tracked points (nodes or body centres), in a
   /// fixed order.
   std::function<DynamicArray<Real3>()> trackedPositions;
+  /// Mechanisms only (the chain families; empty elsewhere), measured the
+  /// same way for every way of modelling the joints, from the link poses:
+  /// the largest distance between the two points a joint should hold
+  /// together (on the parent and on the child, or on the world) [m] ...
+  std::function<real()> jointDrift;
+  /// ... and the mechanical energy: kinetic + gravity potential of the links
+  /// [J] (without the energy stored in compliant joints).
+  std::function<real()> mechanicalEnergy;
+  /// The scale of energy_gain: total mass · g · L, more than the links can
+  /// ever release falling from rest [J].
+  real energyScale = 0;
 };
 
 /// The family names, in display order.

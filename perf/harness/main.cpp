@@ -34,11 +34,23 @@ using Labels = std::vector<std::string_view>;
 
 // ================================================================ suites
 
+/// "a,b,c" → {"a", "b", "c"}.
+Strings SplitList(std::string const& list) {
+  Strings items;
+  for (std::size_t begin = 0; begin <= list.size();) {
+    std::size_t const end = std::min(list.find(',', begin), list.size());
+    items.push_back(list.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  return items;
+}
+
 /// Collects the runs of a suite; drops (with a note) the ones this build or
 /// the --only filter excludes.
 class SuiteBuilder {
  public:
-  SuiteBuilder(std::string suite, std::string outDir, std::string only)
+  /// `only`: the families to keep (all when empty).
+  SuiteBuilder(std::string suite, std::string outDir, Strings only)
       : suite_(std::move(suite)), outDir_(std::move(outDir)), only_(std::move(only)) {}
 
   std::vector<RunSpec> const& GetRuns() const { return runs_; }
@@ -98,6 +110,21 @@ class SuiteBuilder {
         }
   }
 
+  /// Long runs (study `long_run`): does the scene survive `endTime` of
+  /// simulated time at each dt? One run per size × dt with `method`; like
+  /// the stability maps, a failure is an outcome, not an error of the suite.
+  void LongRun(std::string const& family, Strings const& sizes, Strings const& dts,
+               double endTime, std::string const& method = "cholmod") {
+    for (std::string const& dt : dts)
+      for (std::string const& size : sizes) {
+        RunSpec spec = Base("long_run", family, size, "1");
+        spec.method = method;
+        spec.dt = dt;
+        spec.endTime = endTime;
+        Add(spec);
+      }
+  }
+
   /// Stability map: stiffness ratio × dt × method, `steps` steps each, PCG
   /// capped at `pcgMaxIterations` so that failures show.
   void Stability(std::string const& family, std::string const& size, Strings const& ratios,
@@ -131,7 +158,8 @@ class SuiteBuilder {
 
   /// Adds `spec` unless --only, the build or the dense size limit excludes it.
   bool Add(RunSpec const& spec) {
-    if (!only_.empty() && spec.family != only_) return false;
+    if (!only_.empty() && std::find(only_.begin(), only_.end(), spec.family) == only_.end())
+      return false;
     std::string why, message;
     if (!MethodAvailable(spec.method, why)) {
       Note(spec.method + " dropped: " + why);
@@ -153,7 +181,8 @@ class SuiteBuilder {
     return name;
   }
 
-  std::string suite_, outDir_, only_;
+  std::string suite_, outDir_;
+  Strings only_;
   std::vector<RunSpec> runs_;
   Strings notes_;
 };
@@ -171,6 +200,12 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
   // scaling runs use 1/240, its work-precision study 1/120 ... 1/960.
   std::string const chainDt = "1/240";
   Strings const chainWpDts{"1/120", "1/240", "1/480", "1/960"};
+  // The chain built both ways (README.md: the mechanism comparison). Long
+  // runs of 3 s at the reference engines' steps (1e-2, 1e-3) and the chain's
+  // scaling step; the stability maps of both chains add dt = 1e-2.
+  Strings const chainLongDts{"1/100", "1/240", "1/1000"};
+  double const chainLongEnd = 3;
+  Strings const chainStabilityDts{"1/240", "1/100", "1/60", "1/15"};
 
   if (name == "tiny") {
     // the ctest smoke test: every family, study and code path in seconds
@@ -186,6 +221,8 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     // indefinite preconditioner on rods of >= 50 nodes, README.md)
     b.Scaling("rods", {"4x10"}, {"cholmod", "pcg-jacobi"}, 2);
     b.Scaling("chain-articulated", {"N=5"}, {"cholmod", "dense"}, 2, "scaling", {"1"}, chainDt);
+    for (std::string family : {"chain", "chain-articulated"})
+      b.LongRun(family, {"N=5"}, {"1/100"}, 0.1);
     return true;
   }
   Labels const quickMethods{"cholmod",      "cholmod-amd", "dense",    "pcg-jacobi",
@@ -210,7 +247,10 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     // PCG capped at 200 iterations per solve: Jacobi needs ~250-300 on the
     // 20x4x4 beam, GAMG ~30, so the map shows where a cheap PC gives out
     b.Stability("cantilever", "20x4x4", stabilityRatios, stabilityDts, stabilityMethods, 3, 200);
-    b.Stability("chain", "N=50", stabilityRatios, stabilityDts, stabilityMethods, 3, 200);
+    b.Stability("chain", "N=50", stabilityRatios, chainStabilityDts, stabilityMethods, 3, 200);
+    b.Stability("chain-articulated", "N=50", {"1"}, chainStabilityDts, stabilityMethods, 3, 200);
+    for (std::string family : {"chain", "chain-articulated"})
+      b.LongRun(family, {"N=2", "N=10", "N=50"}, chainLongDts, chainLongEnd);
     return true;
   }
   if (name == "full") {
@@ -238,13 +278,35 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Scaling("cloth", {"96x96"},
               {"cholmod", "cholmod-amd", "pcg-jacobi", "pcg-gamg", "pcg-gamg-reuse", "pcg-hypre"},
               3);
-    b.Scaling("chain", {"N=10", "N=50", "N=200", "N=1000"}, methods, 3, "scaling", {"1"}, chainDt);
+    // the chain both ways, N = 2 ... 1000, every method. The articulated
+    // chain's Hessian is one dense block: PCG (a dense matrix-vector product
+    // per iteration) only up to N = 200, where Jacobi, GAMG and hypre already
+    // stop at the 10000-iteration cap
+    Strings const chainSizes{"N=2", "N=10", "N=50", "N=200", "N=500", "N=1000"};
+    b.Scaling("chain", chainSizes, methods, 3, "scaling", {"1"}, chainDt);
+    Labels const direct{"cholmod", "cholmod-amd", "dense"};
+    b.Scaling("chain-articulated", chainSizes, direct, 3, "scaling", {"1"}, chainDt);
+    Labels articulatedPcg = methods;
+    std::erase_if(articulatedPcg, [&](std::string_view m) {
+      return std::find(direct.begin(), direct.end(), m) != direct.end();
+    });
+    b.Scaling("chain-articulated", {"N=2", "N=10", "N=50", "N=200"}, articulatedPcg, 3, "scaling",
+              {"1"}, chainDt);
+    // 3 s long runs: the rigid chain to N = 500 at every step; the
+    // articulated one to N = 500 at 1e-2 (~0.35 s per step there), to N = 200
+    // at the smaller steps (budget)
+    b.LongRun("chain", {"N=2", "N=10", "N=50", "N=200", "N=500"}, chainLongDts, chainLongEnd);
+    b.LongRun("chain-articulated", {"N=2", "N=10", "N=50", "N=200", "N=500"}, {"1/100"},
+              chainLongEnd);
+    b.LongRun("chain-articulated", {"N=2", "N=10", "N=50", "N=200"}, {"1/240", "1/1000"},
+              chainLongEnd);
     b.WorkPrecision("cantilever", "10x2x2", wpDts, 0.2, wpMethods, bothIntegrators);
     b.WorkPrecision("cloth", "12x12", wpDts, 0.2, wpMethods, bothIntegrators);
     b.WorkPrecision("chain", "N=20", chainWpDts, 0.2, wpMethods, bothIntegrators);
     b.Stability("cantilever", "20x4x4", stabilityRatios, stabilityDts, stabilityMethods, 3, 200);
     b.Stability("cloth", "24x24", stabilityRatios, stabilityDts, stabilityMethods, 3, 200);
-    b.Stability("chain", "N=50", stabilityRatios, stabilityDts, stabilityMethods, 3, 200);
+    b.Stability("chain", "N=50", stabilityRatios, chainStabilityDts, stabilityMethods, 3, 200);
+    b.Stability("chain-articulated", "N=50", {"1"}, chainStabilityDts, stabilityMethods, 3, 200);
     // rods scaling to 100k DoFs, 3 steps. pcg-gamg and pcg-gamg-reuse fail
     // at the first solve from 50 nodes per rod on (README.md: the rods
     // family); kept, as they fail in seconds. Not beyond 100x250, so that
@@ -263,6 +325,12 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
 }
 
 // ================================================================ driver
+
+/// Studies whose runs may fail by design: the stability maps and the long
+/// runs look for where a configuration stops converging.
+bool FailureIsAnOutcome(std::string const& study) {
+  return study == "stability" || study == "long_run";
+}
 
 /// "[12/48] scaling: cantilever 40x8x8 E=1e5 pcg-gamg be dt=1/60"
 std::string RunTitle(RunSpec const& spec, std::size_t index, std::size_t count) {
@@ -289,6 +357,7 @@ std::string RunOutcome(Row const& row, double wallSeconds) {
     figures = text;
   }
   if (!row[kError].empty()) figures += "error " + row[kError] + ", ";
+  if (!row[kJointDrift].empty()) figures += "joint drift " + row[kJointDrift] + " m, ";
   std::string const reason = row[kReason].empty() ? "" : ": " + row[kReason];
   std::snprintf(text, sizeof text, "%s (%.1f s)", (row[kStatus] + reason).c_str(), wallSeconds);
   return figures + text;
@@ -301,7 +370,8 @@ struct SuiteOptions {
 };
 
 int RunSuite(SuiteOptions const& options) {
-  SuiteBuilder builder(options.suite, options.out, options.only);
+  SuiteBuilder builder(options.suite, options.out,
+                      options.only.empty() ? Strings{} : SplitList(options.only));
   if (!DefineSuite(builder, options.suite)) {
     std::fprintf(stderr, "superdex_perf: unknown suite '%s' (tiny, quick, full)\n",
                  options.suite.c_str());
@@ -347,13 +417,14 @@ int RunSuite(SuiteOptions const& options) {
       ++skipped;
     else
       ++failed;
-    // a stability run may fail by design; a failure anywhere else is not expected
-    if (row[kStatus] == "failed" && spec.study != "stability") ++unexpected;
+    // stability and long runs may fail by design; a failure anywhere else is
+    // not expected
+    if (row[kStatus] == "failed" && !FailureIsAnOutcome(spec.study)) ++unexpected;
   }
   double const total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr,
-               "superdex_perf: %d ok, %d failed (%d outside the stability study), %d skipped, "
+               "superdex_perf: %d ok, %d failed (%d outside the stability and long-run studies), %d skipped, "
                "%zu total, %.1f s\n",
                ok, failed, unexpected, skipped, runs.size(), total);
   return unexpected > 0 ? 1 : 0;
@@ -369,10 +440,11 @@ void PrintHelp() {
       "[--dry-run]\n"
       "      runs a suite, one child process per run; writes DIR/results.csv, DIR/results.json,\n"
       "      DIR/ref/ (reference positions) and DIR/logs/ (output of runs that printed any).\n"
-      "      --only FAMILY    only the runs of one family (cantilever, cloth, chain, rods, chain-articulated)\n"
+      "      --only F[,F...]  only the runs of these families (cantilever, cloth, chain, rods,\n"
+      "                       chain-articulated)\n"
       "      --timeout S      per-run limit in seconds (default 600; tiny: 60)\n"
       "      --dry-run        list the runs without running them\n"
-      "      Exit status 1 when a run outside the stability study failed.\n"
+      "      Exit status 1 when a run outside the stability and long-run studies failed.\n"
       "\n"
       "  superdex_perf run [OPTIONS]\n"
       "      one run in this process; prints the CSV header and row (or a JSON object).\n");
@@ -454,10 +526,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "superdex_perf: --suite and --out are required (see --help)\n");
     return 2;
   }
-  if (!options.only.empty() &&
-      std::find(FamilyNames().begin(), FamilyNames().end(), options.only) == FamilyNames().end()) {
-    std::fprintf(stderr, "superdex_perf: unknown family '%s' for --only\n", options.only.c_str());
-    return 2;
-  }
+  if (!options.only.empty())
+    for (std::string const& family : SplitList(options.only))
+      if (std::find(FamilyNames().begin(), FamilyNames().end(), family) == FamilyNames().end()) {
+        std::fprintf(stderr, "superdex_perf: unknown family '%s' for --only\n", family.c_str());
+        return 2;
+      }
   return RunSuite(options);
 }

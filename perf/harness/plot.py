@@ -23,6 +23,12 @@ Output (into OUT_DIR; the list of files written is printed):
   phases.png  for each family the largest size of the scaling study: stacked
         horizontal bars per method of the time per step split into phases,
         total annotated.
+  chain.png  the chain built both ways (families chain and chain-articulated):
+        scaling rows: cost per link per step and Newton iterations per step
+        against N, one line per (family, method); long_run rows: simulated time
+        reached of the planned end time, the largest joint drift, Newton
+        iterations per step, and the cost per simulated second at the largest dt
+        each chain survived, against N, one line per (family, dt).
   summary.md  tables of every study, the reference runs and the failures.
 A chart whose study has no rows is skipped with a printed line.  Exit status:
 0 on success, 1 when results.csv is missing or lacks a column or a chart failed.
@@ -37,6 +43,7 @@ from collections import defaultdict
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
@@ -46,7 +53,10 @@ COLUMNS = (
     "newton_iterations linear_iterations linear_solves pattern_builds "
     "symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops "
     "analysis_s assembly_s factorization_s solve_s line_search_s other_s "
-    "wall_per_step_s total_s peak_rss_mb error reference status reason").split()
+    "wall_per_step_s total_s peak_rss_mb error reference joint_drift energy_gain "
+    "status reason").split()
+# the two ways of building the chain (perf/harness/families.cc) and their line styles
+CHAINS = {"chain": "-", "chain-articulated": "--"}
 # (column, legend label, colour) of the per-step phase bars.
 PHASES = [("analysis_s", "analysis", "#9e9ac8"),
           ("assembly_s", "assembly", "#6baed6"),
@@ -269,6 +279,104 @@ def chart_scaling(sc, out, style, written):
     save(fig, out, "scaling.png", written)
 
 
+def links(row):
+    """N of a chain size label "N=50", or None."""
+    size = row["size"]
+    return int(size[2:]) if size.startswith("N=") and size[2:].isdigit() else None
+
+
+def reached(row):
+    """Simulated time the run reached [s]: steps done × dt."""
+    s, dt = num(row, "steps"), num(row, "dt")
+    return s * dt if s is not None and pos(dt) else 0.0
+
+
+def sim_cost(row):
+    """Wall time per simulated second of a run [s/s]."""
+    w, dt = wall(row), num(row, "dt")
+    return w / dt if pos(w) and pos(dt) else None
+
+
+def chain_lines(ax, rows, key, value, style, label_of):
+    """One line per key(row) of value(row) against N; failed rows left out of
+    the line and counted in the label. True when anything was plotted."""
+    plotted = False
+    for k, g in group(rows, key).items():
+        pts = sorted((links(r), value(r)) for r in g
+                     if links(r) and value(r) is not None and value(r) > 0)
+        nfail = sum(not is_ok(r) for r in g)
+        color, marker, ls = style(k)
+        label = label_of(k) + (f" ({nfail} failed)" if nfail else "")
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], ls, color=color, marker=marker,
+                label=label, ms=5)
+        plotted = plotted or bool(pts)
+    return plotted
+
+
+def chart_chain(rows, out, style, written):
+    chains = [r for r in rows if r["family"] in CHAINS and links(r)]
+    sc = [r for r in chains if r["study"] == "scaling"]
+    lr = [r for r in chains if r["study"] == "long_run"]
+    if not sc and not lr:
+        print("skip chain.png: no scaling or long_run rows of the chain families")
+        return
+    dts = sorted({num(r, "dt") for r in lr if pos(num(r, "dt"))}, reverse=True)
+    dt_colors = {dt: plt.get_cmap("viridis")(i / max(1, len(dts) - 1) * 0.85)
+                 for i, dt in enumerate(dts)}
+
+    def method_style(k):
+        color, marker = style(k[1])
+        return color, marker, CHAINS[k[0]]
+
+    def dt_style(k):
+        return dt_colors[num({"dt": k[1]}, "dt")], "o" if k[0] == "chain" else "s", CHAINS[k[0]]
+
+    by_method = lambda r: (r["family"], r["method"])  # noqa: E731
+    by_dt = lambda r: (r["family"], r["dt"])  # noqa: E731
+    method_label = lambda k: f"{k[0]} {k[1]}"  # noqa: E731
+    dt_label_of = lambda k: f"{k[0]} dt={dt_label(num({'dt': k[1]}, 'dt'))}"  # noqa: E731
+    end = max((num(r, "end_time") or 0 for r in lr), default=0)
+    fig, axes = plt.subplots(2, 3, figsize=(19, 10.5))
+    (a, b, c), (d, e, f) = axes
+    p = chain_lines(a, [r for r in sc if is_ok(r)], by_method,
+                    lambda r: (wall(r) or 0) / links(r) * 1e6, method_style, method_label)
+    log_axes(a, p, "cost per link per step (scaling runs)", "links N", "wall time / (N · steps) [µs]",
+             "upper left")
+    p = chain_lines(b, [r for r in sc if is_ok(r)], by_method,
+                    lambda r: per_step(r, "newton_iterations"), method_style, method_label)
+    log_axes(b, p, "Newton iterations per step (scaling runs)", "links N", "Newton iterations / step",
+             "upper left")
+    p = chain_lines(c, lr, by_dt, lambda r: reached(r), dt_style, dt_label_of)
+    log_axes(c, p, f"long runs: simulated time reached of {end:g} s (failed: Newton stalled)",
+             "links N", "time reached [s]", "lower left")
+    p = chain_lines(d, lr, by_dt, lambda r: num(r, "joint_drift"), dt_style, dt_label_of)
+    log_axes(d, p, "long runs: largest joint drift (distance of the joint's two points)",
+             "links N", "joint drift [m]", "center left")
+    p = chain_lines(e, lr, by_dt, lambda r: per_step(r, "newton_iterations"), dt_style, dt_label_of)
+    log_axes(e, p, "long runs: Newton iterations per step", "links N", "Newton iterations / step",
+             "upper left")
+    best = {}  # (family, N) -> the surviving long run of the largest dt
+    for r in lr:
+        if is_ok(r) and pos(num(r, "dt")):
+            k = (r["family"], links(r))
+            if k not in best or num(r, "dt") > num(best[k], "dt"):
+                best[k] = r
+    p = chain_lines(f, list(best.values()), lambda r: r["family"], sim_cost,
+                    lambda k: ("black", "o" if k == "chain" else "s", CHAINS[k]), lambda k: k)
+    for r in best.values():
+        f.annotate(dt_label(num(r, "dt")), (links(r), sim_cost(r)), textcoords="offset points",
+                   xytext=(4, 3), fontsize=7)
+    log_axes(f, p, "cost per simulated second at the largest dt that survived (labels: dt)",
+             "links N", "wall time / simulated time [s/s]", "upper left")
+    for ax in (b, e):  # iteration counts: plain numbers on the log axis
+        ax.yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+        ax.yaxis.set_minor_formatter(matplotlib.ticker.ScalarFormatter())
+    fig.suptitle("The chain built both ways: rigid bodies + compliant spherical joints "
+                 "(solid) vs one articulated actor with exact joints (dashed)")
+    fig.tight_layout()
+    save(fig, out, "chain.png", written)
+
+
 def stability_cells(g, dts, ratios):
     """{(i, j): row} for a panel; a failed run wins over an ok one in a cell."""
     cells = {}
@@ -445,6 +553,19 @@ def summary(rows, out, written):
                     body.append(line)
                 L += [f"### {fam} ({sizes_of(g)}), {label}", ""] + table(
                     ["stiffness \\ dt"] + [dt_label(d) for d in dts], body)
+    if studies.get("long_run"):
+        L += ["## Long runs", "", "Time reached of the planned end time; joint drift and energy gain "
+              "are the largest over the run (energy gain: mechanical energy above the initial, "
+              "over total mass · g · L).", ""]
+        fr = sorted(studies["long_run"], key=lambda r: (r["family"], num(r, "dofs") or 0, -(num(r, "dt") or 0)))
+        L += table(["family", "size", "method", "dt", "reached", "Newton its/step", "time/step",
+                    "µs/link/step", "wall/simulated s", "joint drift [m]", "energy gain", "status"],
+                   [[r["family"], r["size"], r["method"], dt_label(num(r, "dt")),
+                     f"{reached(r):.3g} / {num(r, 'end_time') or 0:g} s",
+                     fmt(per_step(r, "newton_iterations")), fmt_time(wall(r)),
+                     fmt(wall(r) / links(r) * 1e6 if pos(wall(r)) and links(r) else None),
+                     fmt(sim_cost(r)), fmt(num(r, "joint_drift")), fmt(num(r, "energy_gain")),
+                     status_text(r)] for r in fr])
     for name, title in (("bullet", "Bullet comparisons"), ("reference", "Reference runs")):
         if studies.get(name):
             L += [f"## {title}", ""] + table(
@@ -485,8 +606,9 @@ def main(argv):
     charts = [lambda: chart_work_precision(wp, out, styles.get, written),
               lambda: chart_scaling(sc, out, styles.get, written),
               lambda: chart_stability(st, out, written),
-              lambda: chart_phases(sc, out, written)]
-    for name, chart in zip(("work_precision", "scaling", "stability", "phases"), charts):
+              lambda: chart_phases(sc, out, written),
+              lambda: chart_chain(rows, out, styles.get, written)]
+    for name, chart in zip(("work_precision", "scaling", "stability", "phases", "chain"), charts):
         try:
             chart()
         except Exception:  # one broken chart must not stop the others

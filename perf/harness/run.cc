@@ -271,7 +271,8 @@ std::array<std::string_view, kNumColumns> const kColumnNames{
     "newton_iterations", "linear_iterations", "linear_solves", "pattern_builds",
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
     "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
-    "total_s", "peak_rss_mb", "error", "reference", "status", "reason"};
+    "total_s", "peak_rss_mb", "error", "reference", "joint_drift", "energy_gain", "status",
+    "reason"};
 // clang-format on
 
 bool IsNumericColumn(int column) {
@@ -415,6 +416,31 @@ void FillMeasured(Row& row, Totals const& t, int steps, SceneStats const& s) {
   row[kWallPerStepS] = Cell(t.step / steps);
 }
 
+/// The mechanism columns: the largest joint drift and energy gain over the
+/// steps (measured after each step, outside the timed step).
+class MechanismWatch {
+ public:
+  explicit MechanismWatch(FamilyScene const& fs) : fs_(fs) {
+    if (fs_.mechanicalEnergy) initialEnergy_ = fs_.mechanicalEnergy();
+  }
+  void Update() {
+    if (!fs_.jointDrift) return;
+    drift_ = std::max(drift_, fs_.jointDrift());
+    gain_ = std::max(gain_, (fs_.mechanicalEnergy() - initialEnergy_) / fs_.energyScale);
+    ++updates_;
+  }
+  void Fill(Row& row) const {
+    if (updates_ == 0) return;
+    row[kJointDrift] = Cell(drift_);
+    row[kEnergyGain] = Cell(gain_);
+  }
+
+ private:
+  FamilyScene const& fs_;
+  real initialEnergy_ = 0, drift_ = 0, gain_ = -INFINITY;
+  int updates_ = 0;
+};
+
 /// Compares with (or writes) the reference; sets the error column, or a
 /// note in `reason` when the reference is missing or does not match.
 void HandleReference(RunSpec const& spec, FamilyScene const& fs, Row& row) {
@@ -437,8 +463,6 @@ void HandleReference(RunSpec const& spec, FamilyScene const& fs, Row& row) {
     row[kReason] = OneLine(message);
 }
 
-/// "LinearSolverFailed at step 3: <message>" (the code name first, so that
-/// the cut to one short line keeps it).
 /// The row's reason for a failed step: the code name, where, and the
 /// library's message without the parts other columns hold (Scene::Step's
 /// "Step(dt = ...) at t = ... failed in " prefix; the solver description in
@@ -510,13 +534,16 @@ Row ExecuteRun(RunSpec const& spec) {
   row[kDofs] = Cell(fs.scene->GetNumDofs());
 
   Totals totals;
+  MechanismWatch watch(fs);
   int done = 0;
   bool ok = true;
   for (; done < spec.steps; ++done) {
     if (!(ok = fs.scene->Step(dt, error))) break;
     totals.Add(fs.scene->GetStats());
+    watch.Update();
   }
   FillMeasured(row, totals, done, fs.scene->GetStats());
+  watch.Fill(row);
   if (!ok) return finish("failed", Reason(error, "step " + std::to_string(done + 1)));
   HandleReference(spec, fs, row);
   std::string const status = row[kStatus].empty() ? "ok" : row[kStatus];

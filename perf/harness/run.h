@@ -111,8 +111,8 @@ enum Column : int {
   kPreconditioner, kRtol, kNewtonTol, kIntegrator, kDt, kSteps, kEndTime, kNewtonIterations,
   kLinearIterations, kLinearSolves, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
   kNnzH, kNnzL, kFactorFlops, kAnalysisS, kAssemblyS, kFactorizationS, kSolveS, kLineSearchS,
-  kOtherS, kWallPerStepS, kTotalS, kPeakRssMb, kError, kReference, kStatus, kReason,
-  kNumColumns
+  kOtherS, kWallPerStepS, kTotalS, kPeakRssMb, kError, kReference, kJointDrift, kEnergyGain,
+  kStatus, kReason, kNumColumns
 };
 // clang-format on
 

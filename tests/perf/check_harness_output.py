@@ -16,12 +16,18 @@ COLUMNS = (
     "newton_tol integrator dt steps end_time newton_iterations linear_iterations linear_solves "
     "pattern_builds symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops analysis_s "
     "assembly_s factorization_s solve_s line_search_s other_s wall_per_step_s total_s "
-    "peak_rss_mb error reference status reason"
+    "peak_rss_mb error reference joint_drift energy_gain status reason"
 ).split()
-STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference")
+STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference", "long_run")
 # every family of the harness (perf/harness/families.cc) has scaling runs in the tiny suite
 FAMILIES = ("cantilever", "cloth", "chain", "rods", "chain-articulated")
-CHARTS = ("scaling.png", "phases.png", "work_precision_cantilever.png", "stability_cantilever.png")
+CHARTS = ("scaling.png", "phases.png", "work_precision_cantilever.png", "stability_cantilever.png",
+          "chain.png")
+# joint drift [m]: the articulated chain's joints are exact (drift at round-off
+# of the 0.1 m links); the rigid chain's compliant joints (1e6 N/m, ~1e-3 N·s²
+# links) give way by ~1e-5 m and more under their own weight
+EXACT_JOINT_DRIFT_MAX = 1e-12
+COMPLIANT_JOINT_DRIFT_MIN = 1e-7
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
@@ -51,10 +57,25 @@ def main():
         if not any(r["study"] == "scaling" and r["family"] == family for r in rows):
             fail(f"no scaling row of family '{family}'")
     for r in rows:
-        if r["study"] != "stability" and r["status"] != "ok":
+        if r["study"] not in ("stability", "long_run") and r["status"] != "ok":
             fail(f"run failed: {r['family']} {r['size']} {r['method']}: {r['reason']}")
         if r["status"] == "ok" and not float(r["wall_per_step_s"]) > 0:
             fail(f"run without a time: {r}")
+    # the chain families carry the mechanism columns: exact joints stay at
+    # round-off, compliant ones drift, and neither gains energy
+    for r in rows:
+        if r["family"] not in ("chain", "chain-articulated") or r["status"] != "ok":
+            continue
+        drift, gain = float(r["joint_drift"]), float(r["energy_gain"])
+        if r["family"] == "chain-articulated" and not drift <= EXACT_JOINT_DRIFT_MAX:
+            fail(f"articulated chain joint drift {drift} m in {r['study']} {r['size']}")
+        if r["family"] == "chain" and not drift >= COMPLIANT_JOINT_DRIFT_MIN:
+            fail(f"rigid chain joint drift {drift} m in {r['study']} {r['size']}: implausibly small")
+        if not gain <= 1e-6:
+            fail(f"{r['family']} {r['size']} gained energy: {gain}")
+    for family in ("chain", "chain-articulated"):
+        if not any(r["study"] == "long_run" and r["family"] == family for r in rows):
+            fail(f"no long_run row of family '{family}'")
     # work-precision rows carry an error against their reference
     for r in rows:
         if r["study"] == "work_precision" and not float(r["error"]) > 0:
