@@ -24,8 +24,9 @@ Output (into OUT_DIR; the list of files written is printed):
         horizontal bars per method of the time per step split into phases,
         total annotated.
   chain.png  the chain built both ways (families chain and chain-articulated):
-        scaling rows: cost per link per step and Newton iterations per step
-        against N, one line per (family, method); long_run rows: simulated time
+        scaling rows: cost per link per step against N, one line per (family,
+        method), and the fastest method's per family with the reference
+        engines' band; long_run rows: simulated time
         reached of the planned end time, the largest joint drift, Newton
         iterations per step, and the cost per simulated second at the largest dt
         each chain survived, against N, one line per (family, dt).
@@ -57,6 +58,10 @@ COLUMNS = (
     "status reason").split()
 # the two ways of building the chain (perf/harness/families.cc) and their line styles
 CHAINS = {"chain": "-", "chain-articulated": "--"}
+# µs per link per step of two established reduced-coordinate engines with
+# explicit (semi-implicit Euler) stepping, measured for reference (they diverge
+# on these chains at dt = 1e-2 and, for N = 50, at 1e-3: perf/harness/README.md)
+REFERENCE_ENGINES_US = (0.4, 0.8)
 # (column, legend label, colour) of the per-step phase bars.
 PHASES = [("analysis_s", "analysis", "#9e9ac8"),
           ("assembly_s", "assembly", "#6baed6"),
@@ -342,10 +347,22 @@ def chart_chain(rows, out, style, written):
                     lambda r: (wall(r) or 0) / links(r) * 1e6, method_style, method_label)
     log_axes(a, p, "cost per link per step (scaling runs)", "links N", "wall time / (N · steps) [µs]",
              "upper left")
-    p = chain_lines(b, [r for r in sc if is_ok(r)], by_method,
-                    lambda r: per_step(r, "newton_iterations"), method_style, method_label)
-    log_axes(b, p, "Newton iterations per step (scaling runs)", "links N", "Newton iterations / step",
-             "upper left")
+    fastest = {}  # (family, N) -> the scaling run of the fastest method
+    for r in sc:
+        if is_ok(r) and pos(wall(r)):
+            k = (r["family"], links(r))
+            if k not in fastest or wall(r) < wall(fastest[k]):
+                fastest[k] = r
+    p = chain_lines(b, list(fastest.values()), lambda r: r["family"],
+                    lambda r: wall(r) / links(r) * 1e6,
+                    lambda k: ("black", "o" if k == "chain" else "s", CHAINS[k]), lambda k: k)
+    for r in fastest.values():
+        b.annotate(r["method"], (links(r), wall(r) / links(r) * 1e6), textcoords="offset points",
+                   xytext=(4, 3), fontsize=7)
+    b.axhspan(*REFERENCE_ENGINES_US, color="#fdb863", alpha=0.5,
+              label="explicit reduced-coordinate engines (measured for reference)")
+    log_axes(b, p, "fastest method per N: cost per link per step", "links N",
+             "wall time / (N · steps) [µs]", "upper left")
     p = chain_lines(c, lr, by_dt, lambda r: reached(r), dt_style, dt_label_of)
     log_axes(c, p, f"long runs: simulated time reached of {end:g} s (failed: Newton stalled)",
              "links N", "time reached [s]", "lower left")
@@ -368,7 +385,7 @@ def chart_chain(rows, out, style, written):
                    xytext=(4, 3), fontsize=7)
     log_axes(f, p, "cost per simulated second at the largest dt that survived (labels: dt)",
              "links N", "wall time / simulated time [s/s]", "upper left")
-    for ax in (b, e):  # iteration counts: plain numbers on the log axis
+    for ax in (e,):  # iteration counts: plain numbers on the log axis
         ax.yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
         ax.yaxis.set_minor_formatter(matplotlib.ticker.ScalarFormatter())
     fig.suptitle("The chain built both ways: rigid bodies + compliant spherical joints "
@@ -509,6 +526,17 @@ def scaling_row(r):
             DASH if share is None else f"{share:.3g} %", status_text(r)]
 
 
+def long_run_row(r):
+    """A long run's table row; the per-step figures only when a step was done."""
+    w = wall(r) if pos(num(r, "steps")) else None
+    return [r["family"], r["size"], r["method"], dt_label(num(r, "dt")),
+            f"{reached(r):.3g} / {num(r, 'end_time') or 0:g} s",
+            fmt(per_step(r, "newton_iterations")), fmt_time(w),
+            fmt(w / links(r) * 1e6 if pos(w) and links(r) else None),
+            fmt(sim_cost(r) if pos(w) else None), fmt(num(r, "joint_drift")),
+            fmt(num(r, "energy_gain")), status_text(r)]
+
+
 def summary(rows, out, written):
     ok = sum(map(is_ok, rows))
     suites = sorted({r["suite"] for r in rows if r["suite"]}) or ["(unnamed)"]
@@ -560,12 +588,7 @@ def summary(rows, out, written):
         fr = sorted(studies["long_run"], key=lambda r: (r["family"], num(r, "dofs") or 0, -(num(r, "dt") or 0)))
         L += table(["family", "size", "method", "dt", "reached", "Newton its/step", "time/step",
                     "µs/link/step", "wall/simulated s", "joint drift [m]", "energy gain", "status"],
-                   [[r["family"], r["size"], r["method"], dt_label(num(r, "dt")),
-                     f"{reached(r):.3g} / {num(r, 'end_time') or 0:g} s",
-                     fmt(per_step(r, "newton_iterations")), fmt_time(wall(r)),
-                     fmt(wall(r) / links(r) * 1e6 if pos(wall(r)) and links(r) else None),
-                     fmt(sim_cost(r)), fmt(num(r, "joint_drift")), fmt(num(r, "energy_gain")),
-                     status_text(r)] for r in fr])
+                   [long_run_row(r) for r in fr])
     for name, title in (("bullet", "Bullet comparisons"), ("reference", "Reference runs")):
         if studies.get(name):
             L += [f"## {title}", ""] + table(
