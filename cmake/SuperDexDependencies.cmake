@@ -24,3 +24,12 @@ add_library(SuperDex::petsc INTERFACE IMPORTED)
 target_link_libraries(SuperDex::petsc INTERFACE PkgConfig::PETSC MPI::MPI_C)
 # C bindings only: no MPI C++ library to link
 target_compile_definitions(SuperDex::petsc INTERFACE OMPI_SKIP_MPICXX=1 MPICH_SKIP_MPICXX=1)
+
+# Python and pybind11 for the mochi module (SUPERDEX_BUILD_PYTHON): Debian's
+# /usr/bin/python3 with python3-dev and pybind11-dev, found explicitly — the
+# first python3 on PATH may be another interpreter, without numpy.
+if(SUPERDEX_BUILD_PYTHON)
+  set(Python3_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "Python with numpy and matplotlib (Debian's)")
+  find_package(Python3 3.9 REQUIRED COMPONENTS Interpreter Development.Module)
+  find_package(pybind11 2.6 CONFIG REQUIRED)
+endif()

@@ -4,6 +4,10 @@
 #   WORK_DIR             scratch folder (wiped first): prefix/, build/
 #   BUILD_TYPE           configuration to install and to build the consumer in
 #   CXX_COMPILER         the compiler SuperDex was built with
+#   PYTHON_EXECUTABLE, PYTHON_INSTALL_DIR  (optional) the interpreter and the
+#                        module folder relative to the prefix: when set, the
+#                        installed mochi is imported from the prefix and steps
+#                        a scene with the prefix's libsuperdex
 cmake_minimum_required(VERSION 3.20)
 
 foreach(var IN ITEMS SUPERDEX_BINARY_DIR CONSUMER_SOURCE_DIR WORK_DIR)
@@ -83,3 +87,24 @@ run_stage("build examples/consumer" ${CMAKE_COMMAND} --build ${build} --config $
 find_program(consumer superdex_consumer PATHS ${build} ${build}/${BUILD_TYPE} NO_DEFAULT_PATH
   REQUIRED)
 run_stage("run ${consumer}" ${consumer})
+
+# 5. the installed Python module: imported from the prefix alone (not the
+#    build tree), it must load the prefix's libsuperdex and step a scene
+if(PYTHON_EXECUTABLE AND PYTHON_INSTALL_DIR)
+  set(site ${prefix}/${PYTHON_INSTALL_DIR})
+  run_stage("import the installed mochi from ${site}"
+    ${CMAKE_COMMAND} -E env PYTHONPATH=${site} PYTHONDONTWRITEBYTECODE=1
+    ${PYTHON_EXECUTABLE} -c "
+import os, sys, mochi
+site, prefix = os.path.realpath(sys.argv[1]), os.path.realpath(sys.argv[2])
+assert os.path.realpath(mochi.__file__).startswith(site), mochi.__file__
+libs = [l.split()[-1] for l in open('/proc/self/maps') if 'libsuperdex' in l]
+assert libs and all(os.path.realpath(l).startswith(prefix) for l in libs), libs
+scene = mochi.Scene.create()
+body = scene.create_rigid_actor(mass=1, inertia=[1, 1, 1])
+for _ in range(10):
+    scene.step(0.01)
+assert abs(body.get_linear_velocity()[1] + 0.981) < 1e-9, body.get_linear_velocity()
+print('installed mochi:', mochi.__file__, libs[0])
+" ${site} ${prefix})
+endif()

@@ -1,0 +1,14 @@
+// assembly/ordering.h: the fill-reducing ordering (SceneParams.ordering).
+#include "defines.h"
+
+namespace superdex::python {
+
+void DefineOrdering(py::module_& m) {
+  py::enum_<OrderingMethod>(m, "OrderingMethod", "Fill-reducing ordering of the global Hessian.")
+      .value("Metis", OrderingMethod::Metis, "METIS nested dissection on the block graph (default)")
+      .value("Natural", OrderingMethod::Natural, "DoFs in actor-creation order (for comparisons)")
+      .value("SolverDefault", OrderingMethod::SolverDefault,
+             "natural order; the linear solver orders (CHOLMOD: AMD/METIS)");
+}
+
+}  // namespace superdex::python

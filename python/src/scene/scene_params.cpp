@@ -1,0 +1,79 @@
+// scene/scene_params.h: SceneParams (with NewtonParams), HessianProjection
+// and the SceneStats a scene reports.
+#include "defines.h"
+#include "support/params_class.h"
+
+namespace superdex::python {
+
+void DefineSceneParams(py::module_& m) {
+  py::enum_<HessianProjection>(
+      m, "HessianProjection",
+      "How Newton treats element Hessians that are not positive semi-definite.")
+      .value("WhenIndefinite", HessianProjection::WhenIndefinite,
+             "exact Hessians; an iteration whose matrix is not positive definite is "
+             "re-assembled with projected ones (default)")
+      .value("Always", HessianProjection::Always, "every element Hessian projected to PSD");
+
+  using N = NewtonParams;
+  ParamsClass<N>(m, "NewtonParams", "Newton's method on each stage's incremental potential.")
+      .Field("max_iterations", &N::maxIterations, "> 0, default 50")
+      .Field("velocity_tolerance", &N::velocityTolerance,
+             "converged when max_j |δq_j| / Δt <= velocity_tolerance [m/s or rad/s], > 0, "
+             "default 1e-6")
+      .Field("max_line_search_steps", &N::maxLineSearchSteps,
+             "backtracking halvings before failure, > 0")
+      .Field("hessian_projection", &N::hessianProjection,
+             "HessianProjection, default WhenIndefinite");
+
+  using S = SceneParams;
+  ParamsClass<S>(m, "SceneParams",
+                 "Scene parameters, validated by Scene.create. Nested structs (newton, pcg) "
+                 "read by reference: params.newton.max_iterations = 20 changes params.")
+      .Field("gravity", &S::gravity, "[m/s²], default (0, -9.81, 0): y is up")
+      .Field("integrator", &S::integrator, "IntegratorType, default BackwardEuler")
+      .Field("newton", &S::newton, "NewtonParams")
+      .Field("linear_solver", &S::linearSolver, "LinearSolverType, default Auto")
+      .Field("pcg", &S::pcg, "PcgParams, used when linear_solver is PetscPcg")
+      .Field("ordering", &S::ordering, "OrderingMethod, default Metis");
+
+  using T = SceneStats;
+  py::class_<T>(
+      m, "SceneStats",
+      "Counters since the scene was created, and figures of the last step (Scene.get_stats(); a "
+      "snapshot, not updated by later steps).")
+      .def_readonly("steps", &T::steps, "successful steps")
+      .def_readonly("pattern_builds", &T::patternBuilds,
+                    "Hessian pattern + ordering + slot tables built")
+      .def_readonly("symbolic_analyses", &T::symbolicAnalyses, "linear-solver symbolic analyses")
+      .def_readonly("linear_solver_object_builds", &T::linearSolverObjectBuilds,
+                    "PETSc Mat + KSP creations; 0 for CHOLMOD and dense")
+      .def_readonly("newton_iterations", &T::newtonIterations, "last step")
+      .def_readonly("linear_iterations", &T::linearIterations, "last step; iterative solvers only")
+      .def_readonly("projection_fallbacks", &T::projectionFallbacks,
+                    "last step: Newton iterations re-assembled with projected Hessians")
+      .def_readonly("linear_solves", &T::linearSolves, "last step")
+      .def_readonly("gradient_norm", &T::gradientNorm, "||∇E||∞ at the last Newton iteration")
+      .def_readonly("num_dofs", &T::numDofs)
+      .def_readonly("hessian_nonzeros", &T::hessianNonzeros, "stored (upper triangle) entries")
+      .def_readonly("factor_nonzeros", &T::factorNonzeros, "nnz(L) as the solver reports it")
+      .def_readonly("factor_flops", &T::factorFlops)
+      .def_readonly("linear_solver", &T::linearSolver, "what ran, as the backend reports it")
+      .def_readonly("analysis_seconds", &T::analysisSeconds,
+                    "pattern build + symbolic analysis [s]")
+      .def_readonly("assembly_seconds", &T::assemblySeconds, "[s]")
+      .def_readonly("factorization_seconds", &T::factorizationSeconds, "[s]")
+      .def_readonly("solve_seconds", &T::solveSeconds, "[s]")
+      .def_readonly("line_search_seconds", &T::lineSearchSeconds, "[s]")
+      .def_readonly("step_seconds", &T::stepSeconds, "[s]")
+      .def("__repr__", [](T const& s) {
+        return "SceneStats(steps=" + std::to_string(s.steps) +
+               ", pattern_builds=" + std::to_string(s.patternBuilds) +
+               ", symbolic_analyses=" + std::to_string(s.symbolicAnalyses) +
+               ", newton_iterations=" + std::to_string(s.newtonIterations) +
+               ", linear_iterations=" + std::to_string(s.linearIterations) +
+               ", num_dofs=" + std::to_string(s.numDofs) + ", linear_solver='" + s.linearSolver +
+               "', step_seconds=" + std::string(py::repr(py::float_(s.stepSeconds))) + ")";
+      });
+}
+
+}  // namespace superdex::python

@@ -1,0 +1,140 @@
+#include "support/objects.h"
+
+namespace superdex::python {
+
+namespace {
+
+std::string HandleText(std::uint32_t index, std::uint32_t generation) {
+  return "{index " + std::to_string(index) + ", generation " + std::to_string(generation) + "}";
+}
+
+template <class Ref>
+py::object Cast(SceneRef const& scene, typename Ref::Type& object) {
+  return py::cast(Ref(scene, object));
+}
+
+}  // namespace
+
+Scene& SceneOwner::Get() const {
+  if (!scene_)
+    Raise(ErrorCode::InvalidState, "the scene was destroyed (Scene.destroy()); create a new one");
+  return *scene_;
+}
+
+Actor& ActorRef::Get() const {
+  Actor* actor = scene_->Get().GetActor(handle_);
+  if (!actor)
+    Raise(ErrorCode::InvalidHandle, std::string(ToString(type_)) + " actor " +
+                                        HandleText(handle_.index, handle_.generation) +
+                                        " was destroyed (its handle is stale)");
+  return *actor;
+}
+
+bool ActorRef::IsAlive() const {
+  return scene_->IsAlive() && scene_->Get().GetActor(handle_);
+}
+
+std::string ActorRef::Repr() const {
+  return std::string(ToString(type_)) +
+         "Actor(handle=ActorHandle(index=" + std::to_string(handle_.index) +
+         ", generation=" + std::to_string(handle_.generation) + ")" +
+         (IsAlive() ? "" : ", destroyed") + ")";
+}
+
+Constraint& ConstraintRef::Get() const {
+  Constraint* constraint = scene_->Get().GetConstraint(handle_);
+  if (!constraint)
+    Raise(ErrorCode::InvalidHandle,
+          std::string(ToString(type_)) + " constraint " +
+              HandleText(handle_.index, handle_.generation) +
+              " was destroyed (directly, or with one of its actors); its handle is stale");
+  return *constraint;
+}
+
+bool ConstraintRef::IsAlive() const {
+  return scene_->IsAlive() && scene_->Get().GetConstraint(handle_);
+}
+
+std::string ConstraintRef::Repr() const {
+  return std::string(ToString(type_)) +
+         "Constraint(handle=ConstraintHandle(index=" + std::to_string(handle_.index) +
+         ", generation=" + std::to_string(handle_.generation) + ")" +
+         (IsAlive() ? "" : ", destroyed") + ")";
+}
+
+py::object WrapActor(SceneRef const& scene, Actor& actor) {
+  switch (actor.GetType()) {
+    case ActorType::Rigid:
+      return Cast<RigidActorRef>(scene, static_cast<RigidActor&>(actor));
+    case ActorType::Deformable:
+      return Cast<DeformableActorRef>(scene, static_cast<DeformableActor&>(actor));
+    case ActorType::Rod:
+      return Cast<RodActorRef>(scene, static_cast<RodActor&>(actor));
+    case ActorType::Articulated:
+      return Cast<ArticulatedActorRef>(scene, static_cast<ArticulatedActor&>(actor));
+  }
+  return py::cast(ActorRef(scene, actor));
+}
+
+py::object WrapConstraint(SceneRef const& scene, Constraint& c) {
+  switch (c.GetType()) {
+    case ConstraintType::RigidSphericalJoint:
+      return Cast<ConstraintRefOf<RigidSphericalJointConstraint>>(
+          scene, static_cast<RigidSphericalJointConstraint&>(c));
+    case ConstraintType::RigidPrismaticJoint:
+      return Cast<ConstraintRefOf<RigidPrismaticJointConstraint>>(
+          scene, static_cast<RigidPrismaticJointConstraint&>(c));
+    case ConstraintType::JointRotationRange:
+      return Cast<ConstraintRefOf<JointRotationRangeConstraint>>(
+          scene, static_cast<JointRotationRangeConstraint&>(c));
+    case ConstraintType::JointRotationTracking:
+      return Cast<ConstraintRefOf<JointRotationTrackingConstraint>>(
+          scene, static_cast<JointRotationTrackingConstraint&>(c));
+    case ConstraintType::RigidPivotPosition:
+      return Cast<ConstraintRefOf<RigidPivotPositionConstraint>>(
+          scene, static_cast<RigidPivotPositionConstraint&>(c));
+    case ConstraintType::RigidPivotToRigidTarget:
+      return Cast<ConstraintRefOf<RigidPivotToRigidTargetConstraint>>(
+          scene, static_cast<RigidPivotToRigidTargetConstraint&>(c));
+    case ConstraintType::RigidPivotRotation:
+      return Cast<ConstraintRefOf<RigidPivotRotationConstraint>>(
+          scene, static_cast<RigidPivotRotationConstraint&>(c));
+    case ConstraintType::DeformableNodePosition:
+      return Cast<ConstraintRefOf<DeformableNodePositionConstraint>>(
+          scene, static_cast<DeformableNodePositionConstraint&>(c));
+    case ConstraintType::DeformableNodeToDeformableNode:
+      return Cast<ConstraintRefOf<DeformableNodeToDeformableNodeConstraint>>(
+          scene, static_cast<DeformableNodeToDeformableNodeConstraint&>(c));
+    case ConstraintType::DeformableNodeToRigid:
+      return Cast<ConstraintRefOf<DeformableNodeToRigidConstraint>>(
+          scene, static_cast<DeformableNodeToRigidConstraint&>(c));
+    case ConstraintType::ArticulatedSingleDofTarget:
+    case ConstraintType::ArticulatedSingleDofRange:
+      return Cast<ConstraintRefOf<ArticulatedSingleDofConstraint>>(
+          scene, static_cast<ArticulatedSingleDofConstraint&>(c));
+    case ConstraintType::Articulated3dRotationTarget:
+    case ConstraintType::Articulated3dRotationRange:
+      return Cast<ConstraintRefOf<Articulated3dRotationConstraint>>(
+          scene, static_cast<Articulated3dRotationConstraint&>(c));
+    case ConstraintType::RodElementRotationToRigid:
+      return Cast<ConstraintRefOf<RodElementRotationToRigidConstraint>>(
+          scene, static_cast<RodElementRotationToRigidConstraint&>(c));
+  }
+  return py::cast(ConstraintRef(scene, c));
+}
+
+ActorHandle LoadActorHandle(py::handle value, std::string const& field) {
+  if (py::isinstance<ActorRef>(value)) return value.cast<ActorRef const&>().GetHandle();
+  if (py::isinstance<ActorHandle>(value)) return value.cast<ActorHandle>();
+  Raise(ErrorCode::InvalidArgument,
+        field + " must be an ActorHandle or an actor, got " + std::string(py::repr(value)));
+}
+
+ConstraintHandle LoadConstraintHandle(py::handle value, std::string const& field) {
+  if (py::isinstance<ConstraintRef>(value)) return value.cast<ConstraintRef const&>().GetHandle();
+  if (py::isinstance<ConstraintHandle>(value)) return value.cast<ConstraintHandle>();
+  Raise(ErrorCode::InvalidArgument,
+        field + " must be a ConstraintHandle or a constraint, got " + std::string(py::repr(value)));
+}
+
+}  // namespace superdex::python

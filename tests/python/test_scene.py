@@ -1,0 +1,341 @@
+"""Scenes built entirely from Python and stepped, with physically checked
+results; actor state as numpy arrays; every kind of actor."""
+import math
+import os
+
+import numpy as np
+import pytest
+
+import mochi
+
+G = 9.81
+
+
+def test_free_fall_for_100_steps_follows_half_g_t_squared():
+    scene = mochi.Scene.create(integrator=mochi.IntegratorType.BackwardEuler,
+                               newton=mochi.NewtonParams(velocity_tolerance=1e-12))
+    body = scene.create_rigid_actor(mass=3, inertia=[0.1, 0.2, 0.3], position=[0, 10, 0])
+    h = 0.01
+    for n in range(1, 101):
+        scene.step(h)
+        t = n * h
+        y = body.get_position()[1] - 10
+        v = body.get_linear_velocity()[1]
+        # backward Euler's discrete solution, v_n = -g t_n and y_n = -½ g t_n² - ½ g h t_n,
+        # holds to round-off (the C++ test bounds it by 4ε(n+1)²; 1e-12 relative is above that)
+        assert abs(v + G * t) <= 1e-12 * G * t
+        assert abs(y + 0.5 * G * t * t + 0.5 * G * h * t) <= 1e-12 * G * t * t
+        # against the exact ½ g t²: backward Euler's first-order error is ½ g h t,
+        # i.e. h / t relative (1 % at t = 1 s): allow that and no more
+        assert abs(y + 0.5 * G * t * t) <= 0.5 * G * h * t * (1 + 1e-9)
+    assert scene.get_time() == pytest.approx(1.0, abs=1e-12)
+    np.testing.assert_allclose(body.get_position()[[0, 2]], [0, 0], atol=1e-15)  # nothing acts across
+    np.testing.assert_allclose(body.get_angular_velocity(), [0, 0, 0], atol=1e-15)
+    assert body.get_kinetic_energy() == pytest.approx(0.5 * 3 * (G * 1.0) ** 2, rel=1e-12)
+
+
+def test_a_chain_built_from_python_obeys_momentum_balance_and_dissipates():
+    # three 1 kg bodies along +x joined by spherical joints, the first pinned at
+    # its left end, released horizontally; 100 steps of 10 ms
+    h, k = 0.01, 1e6
+    scene = mochi.Scene.create()
+    bodies = [scene.create_rigid_actor(mass=1, inertia=[1e-4, 1e-3, 1e-3], position=[(i + 0.5) * 0.1, 0, 0])
+              for i in range(3)]
+    pin = scene.create_rigid_pivot_position_constraint(actor=bodies[0], local_pos=[-0.05, 0, 0],
+                                                       stiffness=k, damping=100)
+    joints = [scene.create_rigid_spherical_joint_constraint(actor_a=a, actor_b=b, local_pos_a=[0.05, 0, 0],
+                                                            local_pos_b=[-0.05, 0, 0], stiffness=k, damping=100)
+              for a, b in zip(bodies, bodies[1:])]
+    pin.register_query(mochi.QueryType.ConstraintForce)
+
+    def energy():  # kinetic + gravity + the constraints' springs, ½ k |g|²
+        return (sum(b.get_kinetic_energy() + b.get_mass() * G * b.get_position()[1] for b in bodies)
+                + sum(0.5 * k * np.dot(c.get_deviation(), c.get_deviation()) for c in [pin] + joints))
+
+    energies = [energy()]
+    for _ in range(100):
+        momentum = sum(b.get_mass() * b.get_linear_velocity() for b in bodies)
+        scene.step(h)
+        change = sum(b.get_mass() * b.get_linear_velocity() for b in bodies) - momentum
+        # backward Euler's momentum balance of the whole chain: the joints'
+        # forces cancel in pairs, so Δp/h = F_pin + m_total g exactly at the
+        # converged step. Newton converges quadratically: measured residual
+        # 4e-11 N; 1e-6 N is far below the 3·9.81 N in play
+        np.testing.assert_allclose(change / h, pin.get_force()[:3] + [0, -3 * G, 0], atol=1e-6)
+        energies.append(energy())
+        # the stiff joints hold: a deviation of force / k, at most ~60 N / 1e6 N/m
+        assert max(np.linalg.norm(c.get_deviation()) for c in [pin] + joints) < 1e-4
+    # backward Euler and the joint damping only dissipate: the energy falls at
+    # every step (measured: by at least 7e-3 J; 1e-12 J is round-off margin)
+    assert max(np.diff(energies)) < 1e-12
+    # the chain swung down: its tip is below the pin by half the chain's length or more
+    assert bodies[2].get_position()[1] < -0.15
+    assert scene.get_stats().steps == 100 and scene.get_stats().pattern_builds == 1
+
+
+def test_deformable_block_hanging_from_pins():
+    # a 0.1 m soft cube (1 kg) hanging from its four top corners
+    mesh = mochi.make_tet_box(origin=[0, 0, 0], size=[0.1, 0.1, 0.1], cells=[2, 2, 2])
+    assert mesh.nodes.shape == (27, 3) and mesh.tetrahedra.shape == (48, 4)
+    assert mesh.tetrahedra.dtype.kind == "i"
+    assert all(mochi.signed_volume(mesh, t) > 0 for t in range(48))
+    scene = mochi.Scene.create()
+    block = scene.create_deformable_actor(nodes=mesh.nodes, tetrahedra=mesh.tetrahedra, density=1000,
+                                          young_modulus=1e5, poisson_ratio=0.3)
+    assert block.get_total_mass() == pytest.approx(1.0, rel=1e-12)
+    assert block.get_num_nodes() == 27 and block.get_num_dofs() == 81
+    top = [i for i, x in enumerate(block.get_node_reference_positions()) if x[1] == pytest.approx(0.1)
+           and x[0] in (0, 0.1) and x[2] in (0, 0.1)]
+    assert len(top) == 4
+    pins = [scene.create_deformable_node_position_constraint(actor=block, node_index=i,
+                                                             position=block.get_node_position(i),
+                                                             stiffness=1e5, damping=10) for i in top]
+    scene.register_query(mochi.QueryType.ConstraintForce)
+    for _ in range(100):
+        scene.step(0.01)
+    x = block.get_node_positions()
+    assert isinstance(x, np.ndarray) and x.shape == (27, 3)
+    np.testing.assert_allclose(x, block.get_node_reference_positions() + block.get_node_displacements(),
+                               atol=1e-15)  # identity transform: x = X + u
+    # it sags: the bottom face moved down, the pinned corners barely (m g / 4k ≈ 25 µm)
+    assert x[:, 1].min() < -1e-3
+    for i in top:
+        assert abs(block.get_node_displacement(i)[1]) < 1e-4
+    # the pins carry the weight: after 1 s of backward-Euler damping at ωh ≈ 1
+    # the block is at rest (measured: 7e-10 relative); 1e-6 allows for the
+    # Newton tolerance and nothing more
+    total = sum(p.get_force()[1] for p in pins)
+    assert total == pytest.approx(G * 1.0, rel=1e-6)
+    assert block.get_elastic_energy() > 0
+    assert block.count_inverted_tetrahedra() == 0
+    assert block.get_node_velocities().shape == (27, 3)
+    assert block.get_node_masses().sum() == pytest.approx(1.0, rel=1e-12)
+
+
+def test_shell_from_a_triangle_grid():
+    mesh = mochi.make_triangle_grid(origin=[0, 0, 0], size_x=1, size_z=1, cells_x=4, cells_z=4)
+    assert mesh.nodes.shape == (25, 3) and mesh.triangles.shape == (32, 3)
+    hinges = mochi.make_hinges(mesh)
+    assert hinges.shape == (40, 4)  # interior edges of a 4 × 4 grid: 2·4·3 + 16 diagonals
+    scene = mochi.Scene.create()
+    cloth = scene.create_deformable_actor(nodes=mesh.nodes, triangles=mesh.triangles, thickness=1e-3,
+                                          young_modulus=1e6, density=200)
+    assert cloth.get_num_triangles() == 32 and cloth.get_num_hinges() == 40
+    np.testing.assert_array_equal(cloth.get_triangles(), mesh.triangles)
+    for corner in (0, 4):
+        scene.create_deformable_node_position_constraint(actor=cloth, node_index=corner,
+                                                         position=cloth.get_node_position(corner), stiffness=1e4)
+    for _ in range(20):
+        scene.step(0.01)
+    assert cloth.get_node_positions()[:, 1].min() < -0.01  # it falls away from its pins
+
+
+def test_rod_hanging_from_a_pin():
+    # a 0.5 m steel-like rod of 10 elements, hanging down from its top node
+    nodes = [[0, -0.05 * i, 0] for i in range(11)]
+    scene = mochi.Scene.create()
+    rod = scene.create_rod_actor(nodes=nodes, radius=0.005, young_modulus=1e9, density=1000)
+    assert rod.get_num_elements() == 10 and rod.get_num_dofs() == 44
+    assert rod.get_node_dof_stride() == 4
+    assert rod.get_node_position_dofs(2).tolist() == [8, 9, 10]
+    mass = 1000 * math.pi * 0.005 ** 2 * 0.5
+    assert rod.get_total_mass() == pytest.approx(mass, rel=1e-12)
+    stiffness = rod.get_stiffness()
+    assert stiffness.stretch == pytest.approx(1e9 * math.pi * 0.005 ** 2, rel=1e-12)
+    pin = scene.create_deformable_node_position_constraint(actor=rod, node_index=0, position=[0, 0, 0],
+                                                           stiffness=1e5)
+    pin.register_query(mochi.QueryType.ConstraintForce)
+    for _ in range(100):
+        scene.step(0.01)
+    assert rod.get_node_positions().shape == (11, 3)
+    assert rod.get_twists().shape == (11,)
+    frame = rod.get_material_frame(0)
+    np.testing.assert_allclose(frame.T @ frame, np.eye(3), atol=1e-12)  # orthonormal
+    assert rod.get_material_frame_jacobian(0).shape == (3, 8)
+    # a straight rod hanging along gravity does not bend or twist: its strain
+    # stays the (zero) rest strain, to round-off
+    np.testing.assert_allclose(rod.get_strain(5), rod.get_rest_strain(5), atol=1e-12)
+    # and the pin carries its weight (at rest after 1 s: measured 3e-14 relative;
+    # 1e-9 allows for the Newton tolerance)
+    assert pin.get_force()[1] == pytest.approx(mass * G, rel=1e-9)
+
+
+def test_rod_clamped_to_a_rigid_body():
+    scene = mochi.Scene.create()
+    hub = scene.create_rigid_actor(mass=1, position=[0, 0, 0])
+    rod = scene.create_rod_actor(nodes=[[0.1 * i, 0, 0] for i in range(6)], radius=0.01)
+    scene.create_rigid_pivot_to_rigid_target_constraint(actor=hub, stiffness=1e7)
+    scene.create_rigid_pivot_rotation_constraint(actor=hub, stiffness=1e7)
+    scene.create_deformable_node_to_rigid_constraint(deformable_actor=rod, rigid_actor=hub,
+                                                     deformable_node_index=0, stiffness=1e6)
+    clamp = scene.create_rod_element_rotation_to_rigid_constraint(rigid_actor=hub, rod_actor=rod,
+                                                                  element_index=0, stiffness=1e4)
+    assert clamp.get_num_dofs() == 11 and clamp.get_element_index() == 0
+    # the target starts as the creation-time rotation of the element's material
+    # frame relative to the hub (identity): R̂ = R_e = [d₁ d₂ t], t along x
+    frame = rod.get_material_frame(0)
+    np.testing.assert_allclose(frame[:, 2], [1, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(mochi.exp_matrix(mochi.log(clamp.get_target_rotation())), frame, atol=1e-12)
+    np.testing.assert_allclose(clamp.get_deviation(), [0, 0, 0], atol=1e-12)
+    for _ in range(10):
+        scene.step(0.01)
+    tip = rod.get_node_position(5)
+    # a clamped cantilever sags, but far less than a free fall of 0.1 s (4.9 cm)
+    assert -0.049 < tip[1] < 0
+
+
+def test_articulated_pendulum_mass_matrix_and_motion():
+    # one uniform rod (m, L) on a revolute joint about z at the origin, released horizontally
+    m, length = 1.0, 0.5
+    izz = m * length ** 2 / 12
+    scene = mochi.Scene.create()
+    link = mochi.ArticulatedLinkParams(parent=-1, joint=mochi.JointType.Revolute, axis=[0, 0, 1], mass=m,
+                                       inertia=[1e-4, izz, izz], center_of_mass=[length / 2, 0, 0])
+    arm = scene.create_articulated_actor(mochi.ArticulatedActorParams(links=[link]))
+    assert arm.get_num_links() == 1 and arm.get_num_dofs() == 1 and not arm.is_floating_base()
+    assert arm.get_joint_type(0) == mochi.JointType.Revolute and mochi.joint_dofs(mochi.JointType.Free) == 6
+    # M = I_zz + m (L/2)² = m L²/3 (parallel axis), to round-off
+    mass_matrix = arm.compute_mass_matrix()
+    assert mass_matrix.shape == (1, 1)
+    assert mass_matrix[0, 0] == pytest.approx(m * length ** 2 / 3, rel=1e-12)
+    # bias = -τ_g = m g L/2 at rest and horizontal
+    assert arm.compute_bias_forces([0, -G, 0])[0] == pytest.approx(m * G * length / 2, rel=1e-12)
+    for _ in range(100):
+        scene.step(1e-3)
+    # after 0.1 s the angle is close to the small-time expansion θ ≈ -½ α t²,
+    # α = m g (L/2) / (m L²/3) = 3g/(2L); the cos θ drop over 0.1 s is < 0.1 %
+    # and backward Euler's first-order error is h/t = 1 %: allow 2 %
+    theta = arm.get_joint_positions()[0]
+    assert theta == pytest.approx(-0.5 * 3 * G / (2 * length) * 0.1 ** 2, rel=0.02)
+    assert arm.get_joint_coordinate(0) == theta
+    assert arm.get_joint_velocities().shape == (1,)
+    com = arm.get_link_center_of_mass(0)
+    np.testing.assert_allclose(com, [length / 2 * math.cos(theta), length / 2 * math.sin(theta), 0], atol=1e-12)
+
+
+def test_articulated_targets_and_ranges_drive_a_spherical_joint():
+    scene = mochi.Scene.create(gravity=[0, 0, 0])
+    ball = scene.create_articulated_actor(links=[mochi.ArticulatedLinkParams(
+        parent=-1, joint=mochi.JointType.Spherical, center_of_mass=[0.5, 0, 0])])
+    target = scene.create_articulated_3d_rotation_target_constraint(
+        actor=ball, joint_index=0, target_from_current=False, rotation=mochi.exp([0, 0, 0.2]),
+        stiffness=100, damping=5)
+    limit = scene.create_articulated_3d_rotation_range_constraint(
+        actor=ball, joint_index=0, lower_limits=[-1, -1, -0.1], upper_limits=[1, 1, 0.1], stiffness=1e4)
+    for _ in range(300):
+        scene.step(0.01)
+    # the target pulls toward 0.2 rad about z, the range stops it near 0.1: the
+    # equilibrium 100 (0.2 - φ) = 1e4 (φ - 0.1) gives φ = 0.1 + 0.1/101. At rest
+    # after 3 s (measured: exact to 1e-14); 1e-9 allows for the Newton tolerance
+    phi = target.get_joint_rotation_vector()
+    assert phi[2] == pytest.approx(0.1 + 0.1 / 101, rel=1e-9)
+    assert limit.get_deviation()[2] == pytest.approx(0.1 / 101, rel=1e-9)
+    np.testing.assert_allclose(ball.get_joint_positions(), phi, atol=1e-12)
+
+
+def test_every_linear_solver_gives_the_same_motion():
+    def run(solver):
+        scene = mochi.Scene.create(linear_solver=solver, pcg=mochi.PcgParams(
+            preconditioner=mochi.PcgPreconditioner.Jacobi, relative_tolerance=1e-12))
+        a = scene.create_rigid_actor(position=[0, 0, 0])
+        b = scene.create_rigid_actor(position=[1, 0, 0])
+        scene.create_rigid_pivot_position_constraint(actor=a, local_pos=[-0.5, 0, 0], position=[-0.5, 0, 0],
+                                                     stiffness=1e6)
+        scene.create_rigid_spherical_joint_constraint(actor_a=a, actor_b=b, local_pos_a=[0.5, 0, 0],
+                                                      local_pos_b=[-0.5, 0, 0], stiffness=1e6)
+        for _ in range(10):
+            scene.step(0.01)
+        assert scene.get_params().linear_solver == solver
+        return scene, b.get_position()
+
+    solvers = mochi.available_linear_solvers()
+    assert mochi.LinearSolverType.Cholmod in solvers and mochi.LinearSolverType.Dense in solvers
+    reference_scene, reference = run(mochi.LinearSolverType.Dense)
+    for solver in solvers:
+        scene, position = run(solver)
+        assert scene.get_stats().linear_solver  # what really ran, as the backend reports it
+        # the same Newton iterates up to the linear solves' accuracy (direct: round-off;
+        # PCG: rtol 1e-12), amplified by 10 steps of Newton: 1e-9 m of a 1 m swing
+        np.testing.assert_allclose(position, reference, atol=1e-9)
+    # switching between steps keeps the state and changes what runs
+    reference_scene.set_linear_solver(mochi.LinearSolverType.Cholmod)
+    reference_scene.step(0.01)
+    assert "CHOLMOD" in reference_scene.get_stats().linear_solver
+    assert mochi.resolve_linear_solver_type(mochi.LinearSolverType.Auto, 12) == mochi.LinearSolverType.Dense
+    assert mochi.resolve_linear_solver_type(mochi.LinearSolverType.Auto, 97) == mochi.LinearSolverType.Cholmod
+    assert mochi.DENSE_SOLVER_MAX_SIZE == 96
+
+
+def test_standalone_linear_solver():
+    # A = [[4, 1], [1, 3]] by its upper triangle
+    a = mochi.SparseSymmetricMatrix(size=2, col_start=[0, 1, 3], row_index=[0, 0, 1], values=[4.0, 1.0, 3.0],
+                                    pattern_version=1)
+    assert a.num_nonzeros() == 3
+    for solver_type in [mochi.LinearSolverType.Dense, mochi.LinearSolverType.Cholmod]:
+        solver = mochi.create_linear_solver(solver_type)
+        assert solver.get_type() == solver_type
+        result, _ = solver.solve([1.0, 2.0])
+        assert result.status == mochi.LinearSolveStatus.InvalidState  # out of order: no factorization
+        assert solver.analyze(a).ok() and solver.factorize(a).ok()
+        result, x = solver.solve([1.0, 2.0])
+        assert result.ok()
+        np.testing.assert_allclose(x, np.linalg.solve([[4, 1], [1, 3]], [1, 2]), rtol=1e-14)
+
+
+def test_so3_maps():
+    phi = np.array([0.1, -0.2, 0.3])
+    q = mochi.exp(phi)
+    assert q.shape == (4,) and np.linalg.norm(q) == pytest.approx(1)
+    np.testing.assert_allclose(mochi.log(q), phi, atol=1e-15)
+    np.testing.assert_allclose(mochi.log(mochi.exp_matrix(phi)), phi, atol=1e-15)
+    np.testing.assert_allclose(mochi.hat(phi) @ [1, 2, 3], np.cross(phi, [1, 2, 3]), atol=1e-15)
+    np.testing.assert_allclose(mochi.left_jacobian(phi) @ mochi.left_jacobian_inverse(phi), np.eye(3),
+                               atol=1e-14)
+    np.testing.assert_allclose(mochi.right_jacobian(phi) @ mochi.right_jacobian_inverse(phi), np.eye(3),
+                               atol=1e-14)
+    # quaternions are [w, x, y, z]: a half turn about z
+    np.testing.assert_allclose(mochi.exp([0, 0, math.pi]), [0, 0, 0, 1], atol=1e-15)
+
+
+def test_vtk_output(tmp_path):
+    mesh = mochi.make_tet_box(origin=[0, 0, 0], size=[1, 1, 1], cells=[1, 1, 1])
+    path = os.fspath(tmp_path / "box_0000.vtu")
+    speed = mochi.VtkPointData(name="speed", components=1, values=np.arange(8.0))
+    mochi.write_vtu(path, mesh.nodes, tetrahedra=mesh.tetrahedra, point_data=[speed])
+    text = open(path).read()
+    assert 'NumberOfPoints="8"' in text and 'NumberOfCells="6"' in text and 'Name="speed"' in text
+    series = mochi.VtkSeries(os.fspath(tmp_path / "box.pvd"))
+    series.add_frame(0.0, "box_0000.vtu")
+    assert series.get_num_frames() == 1 and os.path.exists(series.get_path())
+    scene = mochi.Scene.create()
+    rod = scene.create_rod_actor(nodes=[[0, 0, 0], [1, 0, 0], [2, 0, 0]])
+    mochi.write_rods_vtu(os.fspath(tmp_path / "rod.vtu"), [rod])
+    assert 'Name="twist"' in open(tmp_path / "rod.vtu").read()
+    with pytest.raises(mochi.Error) as e:
+        mochi.write_vtu(path, mesh.nodes, point_data=[mochi.VtkPointData(name="x", values=[1.0])])
+    assert e.value.code == mochi.ErrorCode.InvalidArgument
+
+
+def test_params_objects():
+    p = mochi.RigidSphericalJointConstraintParams(local_pos_a=(1, 2, 3), stiffness=1e6)
+    assert isinstance(p.local_pos_a, np.ndarray) and p.local_pos_a.tolist() == [1, 2, 3]
+    p.local_pos_a[1] = 5  # vector fields are views into the struct
+    assert p.local_pos_a.tolist() == [1, 5, 3]
+    assert repr(p) == ("RigidSphericalJointConstraintParams(actor_a=ActorHandle(), actor_b=ActorHandle(), "
+                       "local_pos_a=[1.0, 5.0, 3.0], local_pos_b=[0.0, 0.0, 0.0], stiffness=1000000.0, "
+                       "damping=0.0, saturation=-1.0)")
+    import copy
+    q = copy.copy(p)
+    q.stiffness = 1
+    assert p.stiffness == 1e6
+    s = mochi.SceneParams(integrator=mochi.IntegratorType.Bdf2)
+    s.newton.max_iterations = 7  # nested structs by reference
+    assert s.newton.max_iterations == 7 and "IntegratorType.Bdf2" in repr(s)
+    scene = mochi.Scene.create(s)
+    assert scene.get_params().newton.max_iterations == 7
+    assert scene.get_params().integrator == mochi.IntegratorType.Bdf2
+    body = scene.create_rigid_actor()
+    assert mochi.RigidPivotPositionConstraintParams(actor=body).actor == body.get_handle()
+    h = body.get_handle()
+    assert {h: 1}[mochi.ActorHandle(index=h.index, generation=h.generation)] == 1
+    assert mochi.ActorHandle().is_null() and repr(mochi.ActorHandle()) == "ActorHandle()"
