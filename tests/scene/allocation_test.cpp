@@ -10,6 +10,30 @@
 using namespace superdex;
 using namespace superdex::test;
 
+namespace {
+
+/// Steps `scene` `steps` times by `dt` and requires that every step succeed,
+/// that Newton iterate at least once per step, and that SuperDex allocate
+/// nothing while it does (the caller has taken the first steps that build
+/// the pattern, the analysis and the snapshots).
+void RequireStepsAllocateNothing(Scene& scene, real dt, int steps) {
+  Error error;
+  int newtonIterations = 0;
+  int const during = CountAllocations([&] {
+                       for (int i = 0; i < steps; ++i) {
+                         bool const ok = scene.Step(dt, error);
+                         newtonIterations += scene.GetStats().newtonIterations;
+                         if (!ok) break;
+                       }
+                     }).superdex;
+  INFO(error.ToString());
+  REQUIRE_FALSE(error);
+  REQUIRE(newtonIterations >= steps);
+  REQUIRE(during == 0);
+}
+
+}  // namespace
+
 TEST_CASE("steps after the first allocate nothing", "[scene][allocation]") {
   LinearSolverType const solver = GENERATE(LinearSolverType::Cholmod, LinearSolverType::Dense);
   CAPTURE(ToString(solver));
@@ -24,19 +48,7 @@ TEST_CASE("steps after the first allocate nothing", "[scene][allocation]") {
   });
   REQUIRE(first->RegisterQuery(QueryType::ConstraintForce, error));
   StepOk(*chain.scene, 1e-3, 2);  // builds pattern, analysis, snapshots
-
-  int newtonIterations = 0;
-  int const during = CountAllocations([&] {
-                       for (int i = 0; i < 20; ++i) {
-                         bool const ok = chain.scene->Step(1e-3, error);
-                         newtonIterations += chain.scene->GetStats().newtonIterations;
-                         if (!ok) break;
-                       }
-                     }).superdex;
-  INFO(error.ToString());
-  REQUIRE_FALSE(error);
-  REQUIRE(newtonIterations >= 20);
-  REQUIRE(during == 0);
+  RequireStepsAllocateNothing(*chain.scene, 1e-3, 20);
 }
 
 TEST_CASE("deformable steps after the first allocate nothing", "[scene][allocation]") {
@@ -66,17 +78,7 @@ TEST_CASE("deformable steps after the first allocate nothing", "[scene][allocati
   }
   StepOk(*scene, 1e-2, 2);
   REQUIRE(scene->GetStats().linearSolver.find("CHOLMOD") != std::string::npos);
-  int newtonIterations = 0;
-  int const during = CountAllocations([&] {
-                       for (int i = 0; i < 10; ++i) {
-                         if (!scene->Step(1e-2, error)) break;
-                         newtonIterations += scene->GetStats().newtonIterations;
-                       }
-                     }).superdex;
-  INFO(error.ToString());
-  REQUIRE_FALSE(error);
-  REQUIRE(newtonIterations >= 10);
-  REQUIRE(during == 0);
+  RequireStepsAllocateNothing(*scene, 1e-2, 10);
 }
 
 TEST_CASE("rod steps after the first allocate nothing", "[scene][allocation][rod]") {
@@ -94,20 +96,9 @@ TEST_CASE("rod steps after the first allocate nothing", "[scene][allocation][rod
   rodParams.youngModulus = 1e8;
   RodActor* rod = MakeStraightRod(*scene, Real3::Zero(), Real3(1, 0.2, 0), 0.5, 30, rodParams);
   ClampRodEnd(*scene, *rod, *body, false, 1e8, 1e4);
-  Error error;
   StepOk(*scene, 1e-2, 2);
   REQUIRE(scene->GetStats().linearSolver.find("CHOLMOD") != std::string::npos);
-  int newtonIterations = 0;
-  int const during = CountAllocations([&] {
-                       for (int i = 0; i < 10; ++i) {
-                         if (!scene->Step(1e-2, error)) break;
-                         newtonIterations += scene->GetStats().newtonIterations;
-                       }
-                     }).superdex;
-  INFO(error.ToString());
-  REQUIRE_FALSE(error);
-  REQUIRE(newtonIterations >= 10);
-  REQUIRE(during == 0);
+  RequireStepsAllocateNothing(*scene, 1e-2, 10);
   REQUIRE(rod->GetNodePosition(30).y() < 0.1 - 1e-3);  // it moved
 }
 
@@ -145,15 +136,5 @@ TEST_CASE("articulated steps after the first allocate nothing", "[scene][allocat
   REQUIRE(c->RegisterQuery(QueryType::ConstraintForce, error));
   StepOk(*scene, 1e-2, 2);
   REQUIRE(scene->GetStats().linearSolver.find("CHOLMOD") != std::string::npos);
-  int newtonIterations = 0;
-  int const during = CountAllocations([&] {
-                       for (int i = 0; i < 10; ++i) {
-                         if (!scene->Step(1e-2, error)) break;
-                         newtonIterations += scene->GetStats().newtonIterations;
-                       }
-                     }).superdex;
-  INFO(error.ToString());
-  REQUIRE_FALSE(error);
-  REQUIRE(newtonIterations >= 10);
-  REQUIRE(during == 0);
+  RequireStepsAllocateNothing(*scene, 1e-2, 10);
 }
