@@ -1,5 +1,7 @@
 #include <superdex/actors/actor.h>
 
+#include <algorithm>
+
 namespace superdex {
 
 std::string_view ToString(ActorType type) {
@@ -10,6 +12,10 @@ std::string_view ToString(ActorType type) {
     case ActorType::Articulated: return "Articulated";
   }
   return "Unknown";
+}
+
+void Actor::WriteDofLengthScales(Span<real> scales) const {
+  std::fill(scales.begin() + dofOffset_, scales.begin() + dofOffset_ + numDofs_, real(1));
 }
 
 }  // namespace superdex

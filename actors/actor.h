@@ -87,6 +87,12 @@ class Actor {
   /// rows untouched (zero: DoFs without a rigid-body meaning).
   virtual void WriteRigidBodyModes(Eigen::Ref<MatrixX> /*modes*/) const {}
 
+  /// Writes this actor's entries [offset, offset + n) of the DoF length
+  /// scales ℓⱼ [m per DoF unit] with which Newton judges a step as a velocity
+  /// of material points: 1 for displacements; a rigid body's rotations its rms
+  /// radius. The default writes 1.
+  virtual void WriteDofLengthScales(Span<real> scales) const;
+
   /// Prepares a stage from the committed state: start configuration,
   /// inertial target and weight (from the integrator coefficients). An actor
   /// without history yet (its first step) uses backward Euler's coefficients.

@@ -1,5 +1,7 @@
 #include <superdex/actors/rigid_actor.h>
 
+#include <cmath>
+
 #include <superdex/assembly/hessian_assembler.h>
 #include <superdex/core/so3.h>
 #include <superdex/core/validate.h>
@@ -74,6 +76,15 @@ void RigidActor::WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const {
   block.bottomRightCorner<3, 3>().setIdentity();
 }
 
+void RigidActor::WriteDofLengthScales(Span<real> scales) const {
+  // rms distance of the mass from the centre: tr I_b = 2 ∫ r² dm
+  real const radius = std::sqrt(inertia_.sum() / (2 * mass_));
+  for (int i = 0; i < 3; ++i) {
+    scales[dofOffset_ + i] = 1;
+    scales[dofOffset_ + 3 + i] = radius;
+  }
+}
+
 void RigidActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
   DynamicArray<int> dofs(kNumDofs);
   for (int i = 0; i < kNumDofs; ++i) dofs[i] = dofOffset_ + i;
@@ -94,9 +105,10 @@ real RigidActor::Energy() const {
 }
 
 void RigidActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
-                                       int firstContributor, bool /*projectHessian*/) const {
-  // the rigid inertia block is PSD by construction (its rotation block is the
-  // Gauss–Newton one): nothing to project
+                                       int firstContributor, bool projectHessian) const {
+  // the exact rotational inertia Hessian adds the curvature of φ(δθ) against
+  // w I_b (φ − φ̂), indefinite far from φ̂; projected, the block is the
+  // Gauss–Newton one (PSD)
   Real3 force, torque;
   inertiaStage_.Gradient(state_.position, state_.rotation, force, torque);
   force -= mass_ * gravity_;
@@ -106,7 +118,8 @@ void RigidActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAss
   }
   Eigen::Matrix<real, 6, 6> hessian = Eigen::Matrix<real, 6, 6>::Zero();
   hessian.topLeftCorner<3, 3>().diagonal().setConstant(inertiaStage_.TranslationStiffness());
-  hessian.bottomRightCorner<3, 3>() = inertiaStage_.RotationHessianGaussNewton(state_.rotation);
+  hessian.bottomRightCorner<3, 3>() = projectHessian ? inertiaStage_.RotationHessianGaussNewton(state_.rotation)
+                                                     : inertiaStage_.RotationHessian(state_.rotation);
   assembler.AddBlock(firstContributor, hessian);
 }
 

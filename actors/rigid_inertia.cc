@@ -3,7 +3,7 @@
 #include <array>
 #include <cmath>
 
-#include <superdex/core/jet.h>
+#include <superdex/core/so3_jet.h>
 
 namespace superdex::internal {
 
@@ -73,44 +73,13 @@ Real33 RigidInertiaStage::RotationHessianGaussNewton(Quat const& rotation) const
 
 Real33 RigidInertiaStage::RotationHessian(Quat const& rotation) const {
   // E(u) = ½ w (φ(u) − φ̂)ᵀ I (φ(u) − φ̂), φ(u) = Log(Exp(u) M₀), M₀ = Rⁿᵀ R,
-  // u = Rⁿᵀ δθ; to second order at u = 0, Exp(u) = I + Û + ½Û². Log by
-  // φ = θ/(2 sin θ) vee(M − Mᵀ), θ = atan2(|vee|/2, (tr M − 1)/2), with the
-  // series θ/sin θ = 1 + θ²/6 near θ = 0 (where |vee| has no derivative).
+  // u = Rⁿᵀ δθ, differentiated to second order at u = 0 (core/so3_jet.h)
   using J = Jet<3>;
   Real33 const m0 = (startRotation_.conjugate() * rotation).normalized().toRotationMatrix();
-  std::array<J, 3> const u{J::Variable(0, 0), J::Variable(0, 1), J::Variable(0, 2)};
-  // E(u) = I + Û + ½Û², Û = Hat(u)
-  std::array<std::array<J, 3>, 3> hat{};
-  hat[0][1] = -u[2];
-  hat[0][2] = u[1];
-  hat[1][0] = u[2];
-  hat[1][2] = -u[0];
-  hat[2][0] = -u[1];
-  hat[2][1] = u[0];
-  std::array<std::array<J, 3>, 3> e{};
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      J sum = (r == c) ? J(1) : J(0);
-      sum = sum + hat[r][c];
-      for (int k = 0; k < 3; ++k) sum = sum + 0.5 * (hat[r][k] * hat[k][c]);
-      e[r][c] = sum;
-    }
-  std::array<std::array<J, 3>, 3> m{};
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) m[r][c] = e[r][0] * m0(0, c) + e[r][1] * m0(1, c) + e[r][2] * m0(2, c);
-  std::array<J, 3> const vee{m[2][1] - m[1][2], m[0][2] - m[2][0], m[1][0] - m[0][1]};
-  J const trace = m[0][0] + m[1][1] + m[2][2];
-  J const vee2 = vee[0] * vee[0] + vee[1] * vee[1] + vee[2] * vee[2];
-  J factor;  // θ/(2 sin θ)
-  if (vee2.value < 1e-12) {
-    factor = 0.5 + vee2 * (1.0 / 48);  // ½(1 + θ²/6), θ² ≈ sin²θ = |vee|²/4
-  } else {
-    J const sine = 0.5 * sqrt(vee2);
-    factor = atan2(sine, 0.5 * (trace - 1)) / (2 * sine);
-  }
+  JetVector3<3> const phi = LogJet(Multiply(ExpSecondOrder(JetIncrement<3>(0)), m0));
   J energy;
   for (int k = 0; k < 3; ++k) {
-    J const d = factor * vee[k] - targetRotation_[k];
+    J const d = phi[k] - targetRotation_[k];
     energy = energy + (0.5 * weight_ * inertia_[k]) * (d * d);
   }
   Real33 const rn = startRotation_.toRotationMatrix();

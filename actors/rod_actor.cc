@@ -195,6 +195,10 @@ Real33 RodActor::GetMaterialFrame(int e) const {
   return internal::RodMaterialFrame(Edge(e), state_.frames[e], state_.twist[e]);
 }
 
+internal::JetMatrix3<4> RodActor::GetMaterialFrameJet(int e) const {
+  return internal::RodMaterialFrameJet(Edge(e), state_.frames[e], state_.twist[e]);
+}
+
 internal::Matrix38 RodActor::GetMaterialFrameJacobian(int e) const {
   return internal::RodMaterialFrameJacobian(Edge(e), state_.frames[e]);
 }

@@ -83,6 +83,9 @@ class RodActor final : public NodalActor {
   /// World angular increment of element e's material frame per increment of
   /// its nodes' 8 DoFs (see internal::RodMaterialFrameJacobian).
   internal::Matrix38 GetMaterialFrameJacobian(int e) const;
+  /// Element e's material frame with its first and second derivatives w.r.t.
+  /// (edge vector, twist) (see internal::RodMaterialFrameJet).
+  internal::JetMatrix3<4> GetMaterialFrameJet(int e) const;
   /// (κ₁, κ₂, m) at interior node i, 1 <= i <= GetNumNodes() − 2, and at rest.
   Real3 GetStrain(int i) const;
   Real3 const& GetRestStrain(int i) const { return stencilRest_[i - 1].strain; }

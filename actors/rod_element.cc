@@ -166,6 +166,20 @@ Real33 RodMaterialFrame(Real3 const& edge, RodReferenceFrame const& ref, real th
   return frame;
 }
 
+JetMatrix3<4> RodMaterialFrameJet(Real3 const& edge, RodReferenceFrame const& ref, real theta) {
+  using J4 = Jet<4>;
+  ElementFrame<J4> const f =
+      MakeFrame(Vec3<J4>{J4::Variable(edge[0], 0), J4::Variable(edge[1], 1), J4::Variable(edge[2], 2)}, ref,
+                J4::Variable(theta, 3));
+  JetMatrix3<4> frame;
+  for (int k = 0; k < 3; ++k) {
+    frame[k][0] = f.d1[k];
+    frame[k][1] = f.d2[k];
+    frame[k][2] = f.t[k];
+  }
+  return frame;
+}
+
 Matrix38 RodMaterialFrameJacobian(Real3 const& edge, RodReferenceFrame const& ref) {
   real const length = edge.norm();
   Real3 const t = edge / length;

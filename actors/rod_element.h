@@ -43,6 +43,7 @@
 
 #include <array>
 
+#include <superdex/core/so3_jet.h>
 #include <superdex/core/types.h>
 
 namespace superdex::internal {
@@ -80,6 +81,10 @@ Real3 TransportDirector(Real3 const& a, Real3 const& b, Real3 const& u);
 /// The material frame [d₁ d₂ t] of an element with edge vector `edge`,
 /// stage reference frame `ref` and twist θ.
 Real33 RodMaterialFrame(Real3 const& edge, RodReferenceFrame const& ref, real theta);
+
+/// The material frame [d₁ d₂ t] with its first and second derivatives w.r.t.
+/// the element's 4 variables (edge vector e at jet indices 0..2, twist θ at 3).
+JetMatrix3<4> RodMaterialFrameJet(Real3 const& edge, RodReferenceFrame const& ref, real theta);
 
 /// dω/d(δxₐ, δθₐ, δx_b, δθ_b): the world angular increment of the material
 /// frame (R ← Exp(ω) R) per increment of the element's two nodes' 4 DoFs

@@ -71,6 +71,7 @@ Articulated3dRotationConstraint::Articulated3dRotationConstraint(
     : Constraint(Layout{.type = ConstraintType::Articulated3dRotationTarget,
                         .dimension = 3,
                         .targetKind = TargetKind::Rotation,
+                        .hasCurvature = true,
                         .actors = {actor, nullptr},
                         .localDofs = {RotationDofs(*actor, params.jointIndex), DynamicArray<int>{}}},
                  {params.stiffness, params.damping, params.saturation}),
@@ -85,6 +86,7 @@ Articulated3dRotationConstraint::Articulated3dRotationConstraint(
     : Constraint(Layout{.type = ConstraintType::Articulated3dRotationRange,
                         .dimension = 3,
                         .isRange = true,
+                        .hasCurvature = true,
                         .actors = {actor, nullptr},
                         .localDofs = {RotationDofs(*actor, params.jointIndex), DynamicArray<int>{}}},
                  {params.stiffness, params.damping, params.saturation}),
@@ -118,6 +120,33 @@ void Articulated3dRotationConstraint::DoEvaluate(Span<real const> target, Eigen:
 void Articulated3dRotationConstraint::DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& upper) const {
   lower.assign(lower_.begin(), lower_.end());
   upper.assign(upper_.begin(), upper_.end());
+}
+
+void Articulated3dRotationConstraint::DoAddCurvature(Span<real const> target,
+                                                     Eigen::Ref<VectorX const> const& weights,
+                                                     Eigen::Ref<MatrixX> hessian) const {
+  Quat const rotation = actor_->GetJointRotation(joint_);
+  if (IsRange()) {
+    // Log(R_j Exp(δ)) = Log(Lᵀ Exp(δ) Q) with L = R_jᵀ, Q = I
+    Real3 const phi = Log(rotation);
+    Real3 w;
+    for (int k = 0; k < 3; ++k) {
+      real slope;
+      internal::OneSidedViolation(phi[k], lower_[k], upper_[k], slope);
+      w[k] = slope * weights[k];
+    }
+    hessian.topLeftCorner<3, 3>() +=
+        internal::RotationResidualCurvature(rotation.conjugate(), Quat::Identity(), w).bottomRightCorner<3, 3>();
+  } else {
+    // R_j Exp(δ) R̂ᵀ = Exp(R_j δ) R_j R̂ᵀ: the world increment is R_j δ
+    Real33 const r = rotation.toRotationMatrix();
+    hessian.topLeftCorner<3, 3>() +=
+        r.transpose() *
+        internal::RotationResidualCurvature(Quat::Identity(), rotation * TargetRotation(target).conjugate(),
+                                            weights.head<3>())
+            .bottomRightCorner<3, 3>() *
+        r;
+  }
 }
 
 }  // namespace superdex

@@ -96,6 +96,8 @@ class Articulated3dRotationConstraint final : public Constraint {
  private:
   void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                   Eigen::Ref<MatrixX> jacobian) const override;
+  void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
+                      Eigen::Ref<MatrixX> hessian) const override;
   void DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& upper) const override;
 
   ArticulatedActor* actor_;

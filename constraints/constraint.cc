@@ -36,7 +36,34 @@ std::string_view ToString(QueryType type) {
   return "Unknown";
 }
 
+std::string_view ToString(ConstraintHessian hessian) {
+  switch (hessian) {
+    case ConstraintHessian::SceneDefault: return "SceneDefault";
+    case ConstraintHessian::GaussNewton: return "GaussNewton";
+    case ConstraintHessian::GeometricStiffness: return "GeometricStiffness";
+    case ConstraintHessian::GeometricStiffnessDiagonal: return "GeometricStiffnessDiagonal";
+  }
+  return "Unknown";
+}
+
 namespace internal {
+bool CheckConstraintHessian(ConstraintHessian hessian, std::string_view field, bool allowSceneDefault,
+                            Error& error) {
+  switch (hessian) {
+    case ConstraintHessian::SceneDefault:
+      if (allowSceneDefault) return true;
+      error.Set(ErrorCode::InvalidArgument,
+                std::string(field) + " must name a Hessian (SceneDefault is for constraints only)");
+      return false;
+    case ConstraintHessian::GaussNewton:
+    case ConstraintHessian::GeometricStiffness:
+    case ConstraintHessian::GeometricStiffnessDiagonal: return true;
+  }
+  error.Set(ErrorCode::InvalidArgument, std::string(field) + " must be a ConstraintHessian, got the value " +
+                                            std::to_string(static_cast<int>(hessian)));
+  return false;
+}
+
 void ConstraintWorkspace::Reserve(int maxDimension, int maxDofs) {
   g.resize(maxDimension);
   f.resize(maxDimension);
@@ -52,6 +79,7 @@ Constraint::Constraint(Layout layout, internal::CompliantParams const& params)
       numActors_(layout.actors[1] ? 2 : 1),
       targetKind_(layout.targetKind),
       isRange_(layout.isRange),
+      hasCurvature_(layout.hasCurvature),
       actors_(layout.actors),
       localDofs_(std::move(layout.localDofs)),
       params_(params),
@@ -89,6 +117,12 @@ bool Constraint::SetDamping(real damping, Error& error) {
 bool Constraint::SetSaturation(real saturation, Error& error) {
   if (!internal::CheckFinite(saturation, "saturation", error)) return false;
   params_.saturation = saturation;
+  return true;
+}
+
+bool Constraint::SetHessianApproximation(ConstraintHessian hessian, Error& error) {
+  if (!internal::CheckConstraintHessian(hessian, "hessianApproximation", true, error)) return false;
+  hessian_ = hessian;
   return true;
 }
 
@@ -198,6 +232,9 @@ void Constraint::DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& uppe
   upper.assign(dimension_, std::numeric_limits<real>::infinity());
 }
 
+void Constraint::DoAddCurvature(Span<real const>, Eigen::Ref<VectorX const> const&,
+                                Eigen::Ref<MatrixX>) const {}
+
 DynamicArray<real> Constraint::GetLimits(bool upper, std::string_view method, Error& error) const {
   if (!isRange_) {
     ReportNotSupported(method, " (not a range type)", error);
@@ -238,6 +275,7 @@ real Constraint::Energy(real h, internal::ConstraintWorkspace& ws) const {
 
 void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
                                        internal::HessianAssembler& assembler, int contributor,
+                                       ConstraintHessian sceneHessian, bool projectHessian,
                                        internal::ConstraintWorkspace& ws) const {
   Evaluate(target_, ws);
   int const m = dimension_, n = static_cast<int>(dofs_.size());
@@ -250,6 +288,27 @@ void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
   for (int i = 0; i < n; ++i) gradient[dofs_[i]] += ws.r[i];
   auto hessian = ws.hessian.topLeftCorner(n, n);
   hessian.noalias() = scale * jacobian.transpose() * jacobian;
+
+  ConstraintHessian const mode = hessian_ == ConstraintHessian::SceneDefault ? sceneHessian : hessian_;
+  if (hasCurvature_ && mode != ConstraintHessian::GaussNewton) {
+    // G = Σᵢ fᵢ ∂²gᵢ/∂q², the joint forces' geometric stiffness
+    ws.curvature.setZero(n, n);
+    DoAddCurvature(target_, ws.f.head(m), ws.curvature);
+    if (mode == ConstraintHessian::GeometricStiffnessDiagonal) {
+      for (int j = 0; j < n; ++j) hessian(j, j) += ws.curvature.col(j).norm();
+    } else if (!projectHessian) {
+      hessian += ws.curvature;
+    } else {
+      // the whole block, clamped to its non-negative eigenvalues
+      ws.curvature += hessian;
+      ws.eigen.compute(ws.curvature);
+      auto const& values = ws.eigen.eigenvalues();
+      auto const& vectors = ws.eigen.eigenvectors();
+      hessian.setZero();
+      for (int k = 0; k < n; ++k)
+        if (values[k] > 0) hessian.noalias() += values[k] * vectors.col(k) * vectors.col(k).transpose();
+    }
+  }
   assembler.AddBlock(contributor, hessian);
 }
 

@@ -12,6 +12,8 @@
 #include <array>
 #include <string_view>
 
+#include <Eigen/Eigenvalues>
+
 #include <superdex/constraints/compliant_potential.h>
 #include <superdex/core/error.h>
 #include <superdex/core/handle.h>
@@ -48,16 +50,50 @@ enum class QueryType {
 
 std::string_view ToString(QueryType type);
 
+/// How a constraint's block of the Newton Hessian is formed (the gradient,
+/// and so the minimizer of every stage, is the same whichever is chosen;
+/// docs/constraints.md "The constraint Hessian" has the measurements behind
+/// the default). With the force coefficients f = κ g + d/Δtᵢ Δg and the
+/// curvature G = Σᵢ fᵢ ∂²gᵢ/∂q² (the term the reference page drops):
+enum class ConstraintHessian {
+  /// Per constraint: use the scene's choice (SceneParams::constraintHessian).
+  SceneDefault,
+  /// The reference page's Gauss–Newton block (κ + d/Δtᵢ) JᵀJ.
+  GaussNewton,
+  /// Geometric stiffness: (κ + d/Δtᵢ) JᵀJ + G, exact while Newton tries
+  /// exact Hessians (HessianProjection::WhenIndefinite: the assembled matrix
+  /// is positive definite and the step a descent direction); in projected
+  /// iterations the block is projected to positive semi-definite by clamping
+  /// its negative eigenvalues to zero.
+  GeometricStiffness,
+  /// (κ + d/Δtᵢ) JᵀJ + diag(‖G e_j‖): G replaced by the diagonal of its
+  /// column norms (Andrews, Teichmann & Kry 2017), PSD by construction.
+  GeometricStiffnessDiagonal,
+};
+
+std::string_view ToString(ConstraintHessian hessian);
+
 namespace internal {
 class StageSolver;
 class HessianAssembler;
 struct ConstraintTestAccess;  // defined by white-box tests only
 
+/// True when `hessian` is a ConstraintHessian value (SceneDefault only where
+/// `allowSceneDefault`); otherwise an InvalidArgument Error naming `field`.
+bool CheckConstraintHessian(ConstraintHessian hessian, std::string_view field, bool allowSceneDefault,
+                            Error& error);
+
 /// Scratch for evaluating constraints, owned by the stage solver and sized
 /// once per pattern build to the largest m and n.
 struct ConstraintWorkspace {
+  /// The most DoFs a constraint couples (RigidSphericalJoint: 12).
+  static constexpr int kMaxDofs = 12;
+  using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDofs, kMaxDofs>;
+
   VectorX g, f, r;
   MatrixX jacobian, hessian;
+  Block curvature;  ///< G, then the projected block (fixed capacity: no allocation)
+  Eigen::SelfAdjointEigenSolver<Block> eigen;
   void Reserve(int maxDimension, int maxDofs);
 };
 }  // namespace internal
@@ -83,6 +119,9 @@ class Constraint {
   int GetNumDofs() const { return static_cast<int>(dofs_.size()); }
   /// True for range (unilateral) types.
   bool IsRange() const { return isRange_; }
+  /// True when g is nonlinear in the DoF increments (its curvature G can be
+  /// non-zero); false for the deformable couplings and single-DoF types.
+  bool HasCurvature() const { return hasCurvature_; }
 
   // ---- parameters (any time) ----
   real GetStiffness() const { return params_.stiffness; }
@@ -94,6 +133,10 @@ class Constraint {
   bool SetDamping(real damping, Error& error);
   /// ḡ: finite; <= 0 (e.g. −1) disables saturation. Force cap = k ḡ.
   bool SetSaturation(real saturation, Error& error);
+  /// This constraint's Hessian block (SceneDefault: the scene's choice).
+  ConstraintHessian GetHessianApproximation() const { return hessian_; }
+  /// Any ConstraintHessian value; another value is an InvalidArgument Error.
+  bool SetHessianApproximation(ConstraintHessian hessian, Error& error);
 
   // ---- kinematic targets ----
   /// Target position p̂ (RigidPivotPosition, DeformableNodePosition).
@@ -136,6 +179,7 @@ class Constraint {
     int dimension;
     TargetKind targetKind = TargetKind::None;
     bool isRange = false;
+    bool hasCurvature = false;  ///< g nonlinear: the type overrides DoAddCurvature
     std::array<Actor*, 2> actors{};
     std::array<DynamicArray<int>, 2> localDofs;
   };
@@ -145,6 +189,14 @@ class Constraint {
   /// design.md §3) at the actors' current configuration for `target`.
   virtual void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                           Eigen::Ref<MatrixX> jacobian) const = 0;
+  /// Adds the curvature of g contracted with `weights` (m entries),
+  /// Σᵢ wᵢ ∂²gᵢ/∂q² (n×n, DoF-list order, second derivatives w.r.t. the DoF
+  /// increments of design.md §3 at zero increment), to `hessian`, at the
+  /// actors' current configuration for `target`. Types with hasCurvature
+  /// override; range types include their one-sided slopes (∂²gᵢ = ±∂²xᵢ where
+  /// a bound is violated, 0 inside).
+  virtual void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
+                              Eigen::Ref<MatrixX> hessian) const;
   /// Range types override: bounds of each component of g's measure.
   virtual void DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& upper) const;
 
@@ -174,8 +226,11 @@ class Constraint {
   // stage interface
   void BeginStage(internal::ConstraintWorkspace& ws);
   real Energy(real h, internal::ConstraintWorkspace& ws) const;
+  /// `sceneHessian` is the scene's choice, used where this constraint's own
+  /// is SceneDefault; with `projectHessian` the block is PSD.
   void AddGradientAndHessian(real h, Span<real> gradient, internal::HessianAssembler& assembler,
-                             int contributor, internal::ConstraintWorkspace& ws) const;
+                             int contributor, ConstraintHessian sceneHessian, bool projectHessian,
+                             internal::ConstraintWorkspace& ws) const;
   void EndStage(real h, internal::ConstraintWorkspace& ws);
 
   ConstraintHandle handle_;
@@ -184,6 +239,8 @@ class Constraint {
   int numActors_;
   TargetKind targetKind_;
   bool isRange_;
+  bool hasCurvature_;
+  ConstraintHessian hessian_ = ConstraintHessian::SceneDefault;
   std::array<Actor*, 2> actors_{};
   std::array<DynamicArray<int>, 2> localDofs_;
   DynamicArray<int> dofs_;  ///< global DoF list (actor 0's, then actor 1's)

@@ -2,6 +2,7 @@
 
 #include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/rigid_actor.h>
+#include <superdex/constraints/rotation_residual.h>
 #include <superdex/core/so3.h>
 
 namespace superdex {
@@ -10,6 +11,7 @@ DeformableNodeToRigidConstraint::DeformableNodeToRigidConstraint(
     NodalActor* deformable, RigidActor* rigid, DeformableNodeToRigidConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::DeformableNodeToRigid,
                         .dimension = 3,
+                        .hasCurvature = true,
                         .actors = {deformable, rigid},
                         .localDofs = {deformable->GetNodePositionDofs(params.deformableNodeIndex),
                                       DynamicArray<int>{0, 1, 2, 3, 4, 5}}},
@@ -29,6 +31,13 @@ void DeformableNodeToRigidConstraint::DoEvaluate(Span<real const>, Eigen::Ref<Ve
   jacobian.block<3, 3>(0, 0) = -deformable_->GetTransformRotation().toRotationMatrix();
   jacobian.block<3, 3>(0, 3).setIdentity();
   jacobian.block<3, 3>(0, 6) = -Hat(arm);
+}
+
+void DeformableNodeToRigidConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<VectorX const> const& weights,
+                                                     Eigen::Ref<MatrixX> hessian) const {
+  // the node's world position is linear in its displacement
+  hessian.block<3, 3>(6, 6) +=
+      internal::RotatedVectorCurvature(weights.head<3>(), rigid_->GetRotation() * localPos_);
 }
 
 }  // namespace superdex

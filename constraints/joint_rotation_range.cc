@@ -10,6 +10,7 @@ JointRotationRangeConstraint::JointRotationRangeConstraint(
     : Constraint(Layout{.type = ConstraintType::JointRotationRange,
                         .dimension = 3,
                         .isRange = true,
+                        .hasCurvature = true,
                         .actors = {actorA, actorB},
                         .localDofs = {DynamicArray<int>{3, 4, 5}, DynamicArray<int>{3, 4, 5}}},
                  {params.stiffness, params.damping, params.saturation}),
@@ -49,6 +50,20 @@ void JointRotationRangeConstraint::DoGetLimits(DynamicArray<real>& lower,
                                                DynamicArray<real>& upper) const {
   lower.assign(lowerLimits_.begin(), lowerLimits_.end());
   upper.assign(upperLimits_.begin(), upperLimits_.end());
+}
+
+void JointRotationRangeConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<VectorX const> const& weights,
+                                                  Eigen::Ref<MatrixX> hessian) const {
+  Quat const left = bodyA_->GetRotation() * frameInA_;
+  Quat const right = bodyB_->GetRotation() * frameInA_ * referenceRotation_.conjugate();
+  Real3 const x = Log(left.conjugate() * right);
+  Real3 w;
+  for (int j = 0; j < 3; ++j) {
+    real slope;
+    internal::OneSidedViolation(x[j], lowerLimits_[j], upperLimits_[j], slope);
+    w[j] = slope * weights[j];
+  }
+  hessian.topLeftCorner<6, 6>() += internal::RotationResidualCurvature(left, right, w);
 }
 
 }  // namespace superdex

@@ -49,6 +49,8 @@ class JointRotationRangeConstraint final : public Constraint {
  private:
   void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                   Eigen::Ref<MatrixX> jacobian) const override;
+  void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
+                      Eigen::Ref<MatrixX> hessian) const override;
   void DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& upper) const override;
 
   RigidActor* bodyA_;

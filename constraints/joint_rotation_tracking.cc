@@ -10,6 +10,7 @@ JointRotationTrackingConstraint::JointRotationTrackingConstraint(
     : Constraint(Layout{.type = ConstraintType::JointRotationTracking,
                         .dimension = 3,
                         .targetKind = TargetKind::Rotation,
+                        .hasCurvature = true,
                         .actors = {actorA, actorB},
                         .localDofs = {DynamicArray<int>{3, 4, 5}, DynamicArray<int>{3, 4, 5}}},
                  {params.stiffness, params.damping, params.saturation}),
@@ -27,6 +28,15 @@ void JointRotationTrackingConstraint::DoEvaluate(Span<real const> target, Eigen:
   g = r.value;
   jacobian.block<3, 3>(0, 0) = -r.derivativeQ;
   jacobian.block<3, 3>(0, 3) = r.derivativeQ;
+}
+
+void JointRotationTrackingConstraint::DoAddCurvature(Span<real const> target,
+                                                     Eigen::Ref<VectorX const> const& weights,
+                                                     Eigen::Ref<MatrixX> hessian) const {
+  // L = R_A R̂ R₀ turns with A, Q = R_B R₀ with B: the DoFs are (δL, δQ)
+  hessian.topLeftCorner<6, 6>() += internal::RotationResidualCurvature(
+      bodyA_->GetRotation() * TargetRotation(target) * frameInA_, bodyB_->GetRotation() * frameInA_,
+      weights.head<3>());
 }
 
 }  // namespace superdex

@@ -38,6 +38,8 @@ class JointRotationTrackingConstraint final : public Constraint {
  private:
   void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                   Eigen::Ref<MatrixX> jacobian) const override;
+  void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
+                      Eigen::Ref<MatrixX> hessian) const override;
 
   RigidActor* bodyA_;
   RigidActor* bodyB_;

@@ -1,6 +1,7 @@
 #include <superdex/constraints/rigid_pivot_position.h>
 
 #include <superdex/actors/rigid_actor.h>
+#include <superdex/constraints/rotation_residual.h>
 #include <superdex/core/so3.h>
 
 namespace superdex {
@@ -10,6 +11,7 @@ RigidPivotPositionConstraint::RigidPivotPositionConstraint(
     : Constraint(Layout{.type = ConstraintType::RigidPivotPosition,
                         .dimension = 3,
                         .targetKind = TargetKind::Position,
+                        .hasCurvature = true,
                         .actors = {actor, nullptr},
                         .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5}, DynamicArray<int>{}}},
                  {params.stiffness, params.damping, params.saturation}),
@@ -24,6 +26,12 @@ void RigidPivotPositionConstraint::DoEvaluate(Span<real const> target, Eigen::Re
   g = body_->GetPosition() + arm - TargetPosition(target);
   jacobian.block<3, 3>(0, 0).setIdentity();
   jacobian.block<3, 3>(0, 3) = -Hat(arm);
+}
+
+void RigidPivotPositionConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<VectorX const> const& weights,
+                                                  Eigen::Ref<MatrixX> hessian) const {
+  hessian.block<3, 3>(3, 3) +=
+      internal::RotatedVectorCurvature(weights.head<3>(), body_->GetRotation() * localPos_);
 }
 
 }  // namespace superdex

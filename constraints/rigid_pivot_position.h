@@ -32,6 +32,8 @@ class RigidPivotPositionConstraint final : public Constraint {
  private:
   void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                   Eigen::Ref<MatrixX> jacobian) const override;
+  void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
+                      Eigen::Ref<MatrixX> hessian) const override;
 
   RigidActor* body_;
   Real3 localPos_;

@@ -10,6 +10,7 @@ RigidPivotRotationConstraint::RigidPivotRotationConstraint(
     : Constraint(Layout{.type = ConstraintType::RigidPivotRotation,
                         .dimension = 3,
                         .targetKind = TargetKind::Rotation,
+                        .hasCurvature = true,
                         .actors = {actor, nullptr},
                         .localDofs = {DynamicArray<int>{3, 4, 5}, DynamicArray<int>{}}},
                  {params.stiffness, params.damping, params.saturation}),
@@ -26,6 +27,16 @@ void RigidPivotRotationConstraint::DoEvaluate(Span<real const> target, Eigen::Re
       Quat::Identity(), body_->GetRotation() * localRotation_ * TargetRotation(target).conjugate());
   g = r.value;
   jacobian = r.derivativeQ;
+}
+
+void RigidPivotRotationConstraint::DoAddCurvature(Span<real const> target,
+                                                  Eigen::Ref<VectorX const> const& weights,
+                                                  Eigen::Ref<MatrixX> hessian) const {
+  hessian.topLeftCorner<3, 3>() +=
+      internal::RotationResidualCurvature(Quat::Identity(),
+                                          body_->GetRotation() * localRotation_ * TargetRotation(target).conjugate(),
+                                          weights.head<3>())
+          .bottomRightCorner<3, 3>();
 }
 
 }  // namespace superdex

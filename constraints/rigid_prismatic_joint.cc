@@ -1,6 +1,7 @@
 #include <superdex/constraints/rigid_prismatic_joint.h>
 
 #include <superdex/actors/rigid_actor.h>
+#include <superdex/constraints/rotation_residual.h>
 #include <superdex/core/so3.h>
 
 namespace superdex {
@@ -9,6 +10,7 @@ RigidPrismaticJointConstraint::RigidPrismaticJointConstraint(
     RigidActor* actorA, RigidActor* actorB, RigidPrismaticJointConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::RigidPrismaticJoint,
                         .dimension = 3,
+                        .hasCurvature = true,
                         .actors = {actorA, actorB},
                         .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5}, DynamicArray<int>{0, 1, 2}}},
                  {params.stiffness, params.damping, params.saturation}),
@@ -45,6 +47,24 @@ void RigidPrismaticJointConstraint::DoEvaluate(Span<real const>, Eigen::Ref<Vect
     g[2] = 0;
     jacobian.row(2).setZero();
   }
+}
+
+void RigidPrismaticJointConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<VectorX const> const& weights,
+                                                   Eigen::Ref<MatrixX> hessian) const {
+  // wᵀs = Wᵀ Exp(−δθ_A) (t_B − t_A) + const with W = R_A R₀ w (the travel
+  // row's weight only where a limit is violated): second order ½ δ×(δ×d) in
+  // δθ_A, and −Wᵀ(δθ_A × d) couples δθ_A with d = t_B − t_A through Hat(W)
+  real const travel = GetOffset().z();
+  Real3 w = weights.head<3>();
+  if (!(travel > upperLimit_ || travel < lowerLimit_)) w.z() = 0;
+  Real3 const worldWeights = (bodyA_->GetRotation() * frameInA_) * w;
+  Real3 const separation = bodyB_->GetPosition() - bodyA_->GetPosition();
+  Real33 const coupling = Hat(worldWeights);
+  hessian.block<3, 3>(3, 3) += internal::RotatedVectorCurvature(worldWeights, separation);
+  hessian.block<3, 3>(3, 6) += coupling;
+  hessian.block<3, 3>(6, 3) -= coupling;
+  hessian.block<3, 3>(3, 0) -= coupling;
+  hessian.block<3, 3>(0, 3) += coupling;
 }
 
 }  // namespace superdex

@@ -1,6 +1,7 @@
 #include <superdex/constraints/rigid_spherical_joint.h>
 
 #include <superdex/actors/rigid_actor.h>
+#include <superdex/constraints/rotation_residual.h>
 #include <superdex/core/so3.h>
 
 namespace superdex {
@@ -9,6 +10,7 @@ RigidSphericalJointConstraint::RigidSphericalJointConstraint(
     RigidActor* actorA, RigidActor* actorB, RigidSphericalJointConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::RigidSphericalJoint,
                         .dimension = 3,
+                        .hasCurvature = true,
                         .actors = {actorA, actorB},
                         .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5},
                                       DynamicArray<int>{0, 1, 2, 3, 4, 5}}},
@@ -27,6 +29,14 @@ void RigidSphericalJointConstraint::DoEvaluate(Span<real const>, Eigen::Ref<Vect
   jacobian.block<3, 3>(0, 3) = -Hat(armA);
   jacobian.block<3, 3>(0, 6) = -Real33::Identity();
   jacobian.block<3, 3>(0, 9) = Hat(armB);
+}
+
+void RigidSphericalJointConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<VectorX const> const& weights,
+                                                   Eigen::Ref<MatrixX> hessian) const {
+  // g is linear in the translations; each arm turns with its body
+  Real3 const w = weights.head<3>();
+  hessian.block<3, 3>(3, 3) += internal::RotatedVectorCurvature(w, bodyA_->GetRotation() * localPosA_);
+  hessian.block<3, 3>(9, 9) -= internal::RotatedVectorCurvature(w, bodyB_->GetRotation() * localPosB_);
 }
 
 }  // namespace superdex

@@ -47,6 +47,8 @@ class RodElementRotationToRigidConstraint final : public Constraint {
  private:
   void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                   Eigen::Ref<MatrixX> jacobian) const override;
+  void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
+                      Eigen::Ref<MatrixX> hessian) const override;
 
   RigidActor* rigid_;
   RodActor* rod_;

@@ -48,6 +48,9 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
                   std::to_string(static_cast<int>(params.newton.hessianProjection)));
     return nullptr;
   }
+  if (!CheckConstraintHessian(params.newton.constraintHessian, "SceneParams.newton.constraintHessian", false,
+                              error))
+    return nullptr;
   if (params.newton.maxLineSearchSteps <= 0) {
     error.Set(ErrorCode::InvalidArgument, "SceneParams.newton.maxLineSearchSteps must be > 0, got " +
                                                std::to_string(params.newton.maxLineSearchSteps));
@@ -519,6 +522,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.linearIterations = 0;
   stats_.linearSolves = 0;
   stats_.projectionFallbacks = 0;
+  stats_.roundOffConvergences = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;
 

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include <superdex/assembly/ordering.h>
+#include <superdex/constraints/constraint.h>
 #include <superdex/core/types.h>
 #include <superdex/linsolve/linear_solver.h>
 #include <superdex/scene/integrator.h>
@@ -33,12 +34,19 @@ std::string_view ToString(HessianProjection projection);
 /// Newton's method on each stage's incremental potential.
 struct NewtonParams {
   int maxIterations = 50;        ///< > 0
-  /// Converged when the step, scaled to a velocity, is small:
-  /// maxⱼ |δqⱼ| / Δtᵢ <= velocityTolerance [m/s for translations, rad/s for
-  /// rotations]. > 0.
+  /// Converged when the step, scaled to the velocity of material points, is
+  /// small: maxⱼ ℓⱼ |δqⱼ| / Δtᵢ <= velocityTolerance [m/s], with ℓⱼ = 1 m
+  /// for translations (and every DoF of deformables, rods and articulated
+  /// actors) and a rigid body's rms radius √(tr I_b / 2m) for its rotations
+  /// (the rms motion of its mass per radian). > 0. Also converged when the
+  /// Newton decrement −∇E·δ is below the round-off resolution of the
+  /// incremental potential (counted in SceneStats::roundOffConvergences).
   real velocityTolerance = 1e-6;
   int maxLineSearchSteps = 40;   ///< backtracking halvings before failure, > 0
   HessianProjection hessianProjection = HessianProjection::WhenIndefinite;
+  /// The constraint blocks of the Newton Hessian, for every constraint whose
+  /// own choice is ConstraintHessian::SceneDefault (not allowed here).
+  ConstraintHessian constraintHessian = ConstraintHessian::GeometricStiffness;
 };
 
 struct SceneParams {
@@ -63,6 +71,8 @@ struct SceneStats {
   int newtonIterations = 0;
   int linearIterations = 0;        ///< iterative solvers; 0 for direct ones
   int projectionFallbacks = 0;     ///< Newton iterations re-assembled with projected Hessians
+  int roundOffConvergences = 0;    ///< stages that converged on a Newton decrement at the
+                                   ///< round-off floor of Eᵢ, not on the step norm
   int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
                                    ///< inexact-Newton re-solves)
   real gradientNorm = 0;           ///< ‖∇E‖∞ at the last Newton iteration

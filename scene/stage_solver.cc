@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <superdex/actors/actor.h>
 #include <superdex/core/validate.h>
@@ -10,6 +11,9 @@
 namespace superdex::internal {
 
 namespace {
+/// Round-off resolution of the incremental potential, in units of its
+/// magnitude Σ|terms|: a decrease smaller than this is not resolvable.
+constexpr real kRoundOffUlps = 64;
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -46,6 +50,7 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   constraintWorkspace_.Reserve(maxDimension, maxDofs);
   gradient_.setZero(numDofs);
   delta_.setZero(numDofs);
+  dofLengthScales_.setOnes(numDofs);
   orderedRhs_.setZero(numDofs);
   orderedSolution_.setZero(numDofs);
   stats.patternBuilds = assembler_.GetNumPatternBuilds();
@@ -146,10 +151,23 @@ real StageSolver::ForcingTerm(int iteration, real gradientNorm) {
 
 real StageSolver::TotalEnergy(DynamicArray<Actor*> const& actors,
                               DynamicArray<Constraint*> const& constraints, real h) {
-  real energy = 0;
-  for (Actor* actor : actors) energy += actor->Energy();
-  for (Constraint* constraint : constraints) energy += constraint->Energy(h, constraintWorkspace_);
+  real energy = 0, scale = 0;
+  for (Actor* actor : actors) {
+    real const term = actor->Energy();
+    energy += term;
+    scale += std::abs(term);
+  }
+  for (Constraint* constraint : constraints) {
+    real const term = constraint->Energy(h, constraintWorkspace_);
+    energy += term;
+    scale += std::abs(term);
+  }
+  energyScale_ = scale;
   return energy;
+}
+
+real StageSolver::ScaledStepNorm(real h) const {
+  return (delta_.cwiseAbs().cwiseProduct(dofLengthScales_)).maxCoeff() / h;
 }
 
 bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
@@ -165,6 +183,8 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
   // rods and articulated actors do)
   for (Constraint* constraint : constraints) constraint->BeginStage(constraintWorkspace_);
   for (Actor* actor : actors) actor->BeginStage(stage, gravity);
+  Span<real> const lengthScales(dofLengthScales_.data(), dofLengthScales_.size());
+  for (Actor* actor : actors) actor->WriteDofLengthScales(lengthScales);
 
   real energy = TotalEnergy(actors, constraints, h);
   if (!std::isfinite(energy)) {
@@ -175,6 +195,8 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
 
   Span<real> gradient(gradient_.data(), gradient_.size());
   int const numConstraintsStart = static_cast<int>(actors.size());
+  real lastStepNorm = 0;
+  bool lastChangeUnresolved = false;  ///< the last accepted step changed Eᵢ below its resolution
   for (int iteration = 1; iteration <= newton.maxIterations; ++iteration) {
     ++stats.newtonIterations;
 
@@ -199,7 +221,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       for (std::size_t c = 0; c < constraints.size(); ++c)
         constraints[c]->AddGradientAndHessian(h, gradient, assembler_,
                                               firstContributor_[numConstraintsStart + c],
-                                              constraintWorkspace_);
+                                              newton.constraintHessian, project, constraintWorkspace_);
       stats.assemblySeconds += SecondsSince(start);
       stats.gradientNorm = gradient_.lpNorm<Eigen::Infinity>();
       if (!std::isfinite(stats.gradientNorm)) {
@@ -240,7 +262,8 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
 
     // velocity-scaled step norm; an inexact step that looks converged is
     // recomputed at the full tolerance before it may end Newton
-    real stepNorm = delta_.lpNorm<Eigen::Infinity>() / h;
+    real stepNorm = ScaledStepNorm(h);
+    lastStepNorm = stepNorm;
     if (inexact && stepNorm <= newton.velocityTolerance && forcingTerm > pcg_.relativeTolerance) {
       solver_->SetRelativeTolerance(pcg_.relativeTolerance);
       result = SolveNewtonSystem(stats);
@@ -251,26 +274,34 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
                                                       "): " + result.reason);
         return false;
       }
-      stepNorm = delta_.lpNorm<Eigen::Infinity>() / h;
+      stepNorm = ScaledStepNorm(h);
+      lastStepNorm = stepNorm;
     }
     if (!std::isfinite(stepNorm)) {
       error.Set(ErrorCode::NonFiniteState, Where(stageIndex, iteration) + ": the Newton step is not finite");
       return false;
     }
 
-    // a step below the tolerance is taken whole: its energy change is at the
-    // round-off floor of Eᵢ, which an Armijo test cannot resolve (notably
-    // where the minimum of Eᵢ is ~0, as for a body with no forces on it).
-    // Larger steps get a backtracking line search on Eᵢ (Armijo, c = 1e-4,
-    // with a round-off allowance of 1e-12 |E|).
-    bool const converged = stepNorm <= newton.velocityTolerance;
+    // Converged when the step, scaled to the velocity of material points, is
+    // below the tolerance (rotations count by the motion of the body's rms
+    // radius, Actor::WriteDofLengthScales), or at a stall on the round-off
+    // floor of Eᵢ: the energy decrease the full step predicts, −∇E·δ (the
+    // Newton decrement), and the change the last accepted step made are both
+    // below the resolution of Eᵢ (kRoundOffUlps ulps of Σ|terms|), so no line
+    // search can tell the iterate from the minimum. Such a step is taken
+    // whole. Larger steps get a backtracking line search on Eᵢ (Armijo,
+    // c = 1e-4, with a round-off allowance of 1e-12 |E|).
+    real const slope = gradient_.dot(delta_);
+    real const resolution = kRoundOffUlps * std::numeric_limits<real>::epsilon() * energyScale_;
+    bool const stepConverged = stepNorm <= newton.velocityTolerance;
+    bool const converged = stepConverged || (lastChangeUnresolved && -slope <= resolution);
+    if (converged && !stepConverged) ++stats.roundOffConvergences;
     auto const start = Clock::now();
     for (Actor* actor : actors) actor->SaveIterate();
     Span<real const> const delta(delta_.data(), delta_.size());
     if (converged) {
       for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, 1);
     } else {
-      real const slope = gradient_.dot(delta_);
       real alpha = 1;
       bool accepted = false;
       real trialEnergy = energy;
@@ -294,6 +325,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
                       Format(stats.gradientNorm) + ")");
         return false;
       }
+      lastChangeUnresolved = std::abs(trialEnergy - energy) <= resolution;
       energy = trialEnergy;
     }
     stats.lineSearchSeconds += SecondsSince(start);
@@ -314,7 +346,8 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
             Where(stageIndex, newton.maxIterations) + ": Newton did not converge within " +
                 std::to_string(newton.maxIterations) + " iterations (gradient norm " +
                 Format(stats.gradientNorm) + ", tolerance " +
-                Format(newton.velocityTolerance) + " on the velocity-scaled step)");
+                Format(newton.velocityTolerance) + " on the velocity-scaled step, last step " +
+                Format(lastStepNorm) + ")");
   return false;
 }
 

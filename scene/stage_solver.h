@@ -3,8 +3,9 @@
 //   Eᵢ(q) = ½ w ‖q ⊖ q̂ᵢ‖²_M + U(q) + Σ Φᶜᵢ(q)
 //
 // assembled into the cached pattern, solved by the scene's linear solver,
-// with a backtracking (Armijo) line search on Eᵢ and a velocity-scaled
-// step-norm convergence test. Owns every per-iteration buffer: after
+// with a backtracking (Armijo) line search on Eᵢ and a convergence test on
+// the step as a velocity of material points, or on a Newton decrement below
+// the round-off resolution of Eᵢ. Owns every per-iteration buffer: after
 // Analyze, a Newton iteration allocates nothing.
 #pragma once
 
@@ -62,6 +63,9 @@ class StageSolver {
   /// choice 2, safeguarded), from the gradient norms of this and the last
   /// iteration; `iteration` is 1-based.
   real ForcingTerm(int iteration, real gradientNorm);
+  /// maxⱼ ℓⱼ |δⱼ| / h: the step as a velocity of material points (ℓⱼ the
+  /// DoF length scales of the actors).
+  real ScaledStepNorm(real h) const;
 
   HessianAssembler assembler_;
   LinearSolverType requestedSolver_ = LinearSolverType::Auto;
@@ -73,6 +77,8 @@ class StageSolver {
   ConstraintWorkspace constraintWorkspace_;
   DynamicArray<int> firstContributor_;  ///< per actor, then per constraint
   VectorX gradient_, delta_, orderedRhs_, orderedSolution_;
+  VectorX dofLengthScales_;  ///< ℓⱼ per DoF (Actor::WriteDofLengthScales)
+  real energyScale_ = 0;     ///< Σ|terms| of Eᵢ at the last TotalEnergy
   FaultInjection fault_;
 };
 

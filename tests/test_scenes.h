@@ -13,9 +13,18 @@ namespace superdex::test {
 struct Chain {
   std::unique_ptr<Scene> scene;
   DynamicArray<RigidActor*> bodies;
+  DynamicArray<Constraint*> constraints;  ///< the pin, then the joints in order
 };
 
-inline Chain MakeChain(int numBodies, SceneParams const& params = {}, real stiffness = 1e6) {
+/// Principal moments of a box of mass m, `length` along x and `side` × `side`
+/// across.
+inline Real3 BoxInertia(real mass, real length, real side) {
+  real const side2 = side * side, length2 = length * length;
+  return mass / 12 * Real3(2 * side2, length2 + side2, length2 + side2);
+}
+
+inline Chain MakeChain(int numBodies, SceneParams const& params = {}, real stiffness = 1e6,
+                       Real3 const& inertia = Real3(1e-4, 1e-3, 1e-3)) {
   real const length = 0.1;
   Chain chain;
   chain.scene = MakeScene(params);
@@ -23,7 +32,7 @@ inline Chain MakeChain(int numBodies, SceneParams const& params = {}, real stiff
   for (int i = 0; i < numBodies; ++i) {
     RigidActorParams body;
     body.mass = 1;
-    body.inertia = Real3(1e-4, 1e-3, 1e-3);
+    body.inertia = inertia;
     body.position = Real3((i + 0.5) * length, 0, 0);
     chain.bodies.push_back(MakeRigid(*chain.scene, body));
   }
@@ -32,7 +41,8 @@ inline Chain MakeChain(int numBodies, SceneParams const& params = {}, real stiff
   pin.localPos = Real3(-length / 2, 0, 0);
   pin.position = Real3::Zero();
   pin.stiffness = stiffness;
-  REQUIRE(chain.scene->CreateRigidPivotPositionConstraint(pin, error));
+  chain.constraints.push_back(chain.scene->CreateRigidPivotPositionConstraint(pin, error));
+  REQUIRE(chain.constraints.back());
   for (int i = 0; i + 1 < numBodies; ++i) {
     RigidSphericalJointConstraintParams joint;
     joint.actorA = chain.bodies[i]->GetHandle();
@@ -40,7 +50,8 @@ inline Chain MakeChain(int numBodies, SceneParams const& params = {}, real stiff
     joint.localPosA = Real3(length / 2, 0, 0);
     joint.localPosB = Real3(-length / 2, 0, 0);
     joint.stiffness = stiffness;
-    REQUIRE(chain.scene->CreateRigidSphericalJointConstraint(joint, error));
+    chain.constraints.push_back(chain.scene->CreateRigidSphericalJointConstraint(joint, error));
+    REQUIRE(chain.constraints.back());
   }
   return chain;
 }

@@ -39,8 +39,16 @@ struct ConstraintTestAccess {
   static real Energy(Constraint const& c, real h, ConstraintWorkspace& ws) { return c.Energy(h, ws); }
   static void AddGradientAndHessian(Constraint const& c, real h, Span<real> gradient,
                                     HessianAssembler& assembler, int contributor,
-                                    ConstraintWorkspace& ws) {
-    c.AddGradientAndHessian(h, gradient, assembler, contributor, ws);
+                                    ConstraintWorkspace& ws,
+                                    ConstraintHessian mode = ConstraintHessian::GaussNewton,
+                                    bool project = true) {
+    c.AddGradientAndHessian(h, gradient, assembler, contributor, mode, project, ws);
+  }
+  /// Σᵢ wᵢ ∂²gᵢ/∂q² at the current configuration and target (n×n).
+  static MatrixX Curvature(Constraint const& c, VectorX const& weights) {
+    MatrixX hessian = MatrixX::Zero(c.GetNumDofs(), c.GetNumDofs());
+    c.DoAddCurvature(c.target_, weights, hessian);
+    return hessian;
   }
   static CompliantParams const& Params(Constraint const& c) { return c.params_; }
   static VectorX const& StageStartValue(Constraint const& c) { return c.stageStartValue_; }

@@ -50,7 +50,7 @@ from matplotlib.patches import Patch  # noqa: E402
 
 COLUMNS = (
     "suite study family size dofs material stiffness_ratio method solver "
-    "preconditioner rtol newton_tol integrator dt steps end_time "
+    "preconditioner rtol newton_tol constraint_hessian integrator dt steps end_time "
     "newton_iterations linear_iterations linear_solves pattern_builds "
     "symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops "
     "analysis_s assembly_s factorization_s solve_s line_search_s other_s "

@@ -35,6 +35,9 @@ std::vector<SpecOption> const& SpecOptions() {
       {"--rtol", "R", "PCG relative tolerance (default 1e-8)", &RunSpec::rtol},
       {"--newton-tol", "V", "Newton velocity tolerance, m/s (default 1e-6)", &RunSpec::newtonTol},
       {"--newton-max-it", "N", "Newton cap, 0: the family's", &RunSpec::newtonMaxIterations},
+      {"--constraint-hessian", "gn|gs|gsd",
+       "constraint Hessian: Gauss-Newton, geometric stiffness (default), its diagonal form",
+       &RunSpec::constraintHessian},
       {"--pcg-max-it", "N", "PCG iteration cap (default 10000)", &RunSpec::pcgMaxIterations},
       {"--reference-out", "FILE", "write the final tracked positions", &RunSpec::referenceOut},
       {"--reference-in", "FILE", "error against the positions in FILE", &RunSpec::referenceIn},
@@ -115,6 +118,8 @@ bool ValidateSpec(RunSpec& spec, std::string& message) {
     message = "--newton-tol must be finite and > 0";
   else if (spec.newtonMaxIterations < 0 || spec.pcgMaxIterations < 1)
     message = "--newton-max-it must be >= 0 and --pcg-max-it >= 1";
+  else if (!IsOneOf(spec.constraintHessian, {"gn", "gs", "gsd"}))
+    message = "--constraint-hessian must be gn, gs or gsd, got '" + spec.constraintHessian + "'";
   else if (!MakeMethod(spec, method))
     message = "unknown --method '" + spec.method + "'";
   else if (!spec.referenceIn.empty() && !spec.referenceOut.empty())
@@ -267,7 +272,7 @@ bool MethodAvailable(std::string_view label, std::string& why) {
 // clang-format off
 std::array<std::string_view, kNumColumns> const kColumnNames{
     "suite", "study", "family", "size", "dofs", "material", "stiffness_ratio", "method", "solver",
-    "preconditioner", "rtol", "newton_tol", "integrator", "dt", "steps", "end_time",
+    "preconditioner", "rtol", "newton_tol", "constraint_hessian", "integrator", "dt", "steps", "end_time",
     "newton_iterations", "linear_iterations", "linear_solves", "pattern_builds",
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
     "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
@@ -278,7 +283,8 @@ std::array<std::string_view, kNumColumns> const kColumnNames{
 bool IsNumericColumn(int column) {
   static constexpr std::array kText{kSuite,      kStudy,     kFamily, kSize,
                                     kMaterial,   kMethod,    kSolver, kPreconditioner,
-                                    kIntegrator, kReference, kStatus, kReason};
+                                    kIntegrator, kReference, kStatus, kReason,
+                                    kConstraintHessian};
   return std::find(kText.begin(), kText.end(), column) == kText.end();
 }
 
@@ -316,6 +322,7 @@ Row RowFromSpec(RunSpec const& spec) {
     row[kRtol] = Cell(spec.rtol);
   }
   row[kNewtonTol] = Cell(spec.newtonTol);
+  row[kConstraintHessian] = spec.constraintHessian;
   row[kIntegrator] = spec.integrator;
   row[kDt] = Cell(dt, 9);
   row[kSteps] = Cell(0);
@@ -517,6 +524,9 @@ Row ExecuteRun(RunSpec const& spec) {
   params.newton.maxIterations = spec.newtonMaxIterations > 0
                                     ? spec.newtonMaxIterations
                                     : DefaultNewtonMaxIterations(spec.family);
+  params.newton.constraintHessian = spec.constraintHessian == "gn"    ? ConstraintHessian::GaussNewton
+                                    : spec.constraintHessian == "gsd" ? ConstraintHessian::GeometricStiffnessDiagonal
+                                                                      : ConstraintHessian::GeometricStiffness;
   params.linearSolver = method.solver;
   params.pcg = method.pcg;
   params.ordering = method.ordering;

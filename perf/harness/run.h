@@ -34,6 +34,7 @@ struct RunSpec {
   double rtol = 1e-8;                 ///< PCG relative tolerance (PCG methods only)
   double newtonTol = 1e-6;            ///< Newton velocityTolerance [m/s]
   int newtonMaxIterations = 0;        ///< 0: the family's default
+  std::string constraintHessian = "gs";  ///< gn | gs | gsd: NewtonParams::constraintHessian
   int pcgMaxIterations = 10000;       ///< PCG iteration cap
   std::string referenceOut;           ///< write the final tracked positions here
   std::string referenceIn;            ///< compare the final tracked positions with this file
@@ -108,7 +109,7 @@ inline constexpr int kDenseMaxDofs = 2000;
 // clang-format off
 enum Column : int {
   kSuite, kStudy, kFamily, kSize, kDofs, kMaterial, kStiffnessRatio, kMethod, kSolver,
-  kPreconditioner, kRtol, kNewtonTol, kIntegrator, kDt, kSteps, kEndTime, kNewtonIterations,
+  kPreconditioner, kRtol, kNewtonTol, kConstraintHessian, kIntegrator, kDt, kSteps, kEndTime, kNewtonIterations,
   kLinearIterations, kLinearSolves, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
   kNnzH, kNnzL, kFactorFlops, kAnalysisS, kAssemblyS, kFactorizationS, kSolveS, kLineSearchS,
   kOtherS, kWallPerStepS, kTotalS, kPeakRssMb, kError, kReference, kJointDrift, kEnergyGain,

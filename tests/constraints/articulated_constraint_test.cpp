@@ -64,6 +64,8 @@ TEST_CASE("articulated single-DoF types: g and J", "[constraints][articulated][d
     REQUIRE(t->GetDofIndicesForActor(0)[0] == tree->GetDofOffset() + tree->GetJointDofOffset(c.joint) + c.dof);
     REQUIRE(std::abs(Deviation(*t)[0] - (c.value - 0.3)) <= 1e-14);
     CheckJacobian(*scene, *t);
+    REQUIRE(!t->HasCurvature());  // g linear in the joint coordinate
+    CheckCurvature(*t, false);
     REQUIRE(t->SetTargetDof(c.value + 0.1, error));
     REQUIRE(std::abs(Deviation(*t)[0] + 0.1) <= 1e-14);
     for (RangeRegion region : {RangeRegion::BelowLower, RangeRegion::Inside, RangeRegion::AboveUpper}) {
@@ -81,7 +83,11 @@ TEST_CASE("articulated single-DoF types: g and J", "[constraints][articulated][d
       REQUIRE(std::abs(Deviation(*r)[0] - ReferenceViolation(c.value, bounds)) <= 1e-14);
       REQUIRE(r->GetLimitMinValues(error) == DynamicArray<real>{bounds.lower});
       REQUIRE(r->GetLimitMaxValues(error) == DynamicArray<real>{bounds.upper});
-      if (region != RangeRegion::Inside) CheckJacobian(*scene, *r);
+      if (region != RangeRegion::Inside) {
+        CheckJacobian(*scene, *r);
+        REQUIRE(!r->HasCurvature());  // g linear in the joint coordinate
+        CheckCurvature(*r, false);
+      }
     }
   }
 }
@@ -110,6 +116,7 @@ TEST_CASE("articulated 3D rotation types: g and J, spherical joints near pi", "[
   REQUIRE(t->SetTargetRotation(targetRotation, error));
   REQUIRE((Deviation(*t) - ReferenceLog((rotation * targetRotation.conjugate()).toRotationMatrix())).norm() <= 1e-12);
   CheckJacobian(*scene, *t, {}, 1e-5);
+  CheckCurvature(*t, true, 1e-5);
   // the range type on each component of Log(R_j), a region per component
   Real3 const phi = ReferenceLog(rotation.toRotationMatrix());
   RangeRegion const regions[3] = {RangeRegion::BelowLower, RangeRegion::AboveUpper, RangeRegion::BelowLower};
@@ -128,6 +135,7 @@ TEST_CASE("articulated 3D rotation types: g and J, spherical joints near pi", "[
   REQUIRE(r);
   REQUIRE((Deviation(*r) - expected).norm() <= 1e-12);
   CheckJacobian(*scene, *r, {}, 1e-5);
+  CheckCurvature(*r, true, 1e-5);
   DynamicArray<real> const lower = r->GetLimitMinValues(error);
   REQUIRE(lower == DynamicArray<real>(range.lowerLimits.begin(), range.lowerLimits.end()));
 }

@@ -11,7 +11,9 @@
 // (b) saturation: the ramp ρ, κ and the force cap, at and around g = 0 and ḡ;
 // (c) the Gauss–Newton Hessian: symmetric PSD, and equal to the
 //     finite-difference Jacobian of rᶜ where g = g⁰ = 0;
-// (d) the range rule.
+// (d) the range rule;
+// (e) the constraint Hessian choices: Gauss–Newton, with geometric stiffness
+//     (exact, and clamped to PSD) and its diagonal form, the same gradient.
 #include "constraint_test_util.h"
 
 #include <Eigen/Eigenvalues>
@@ -45,6 +47,13 @@ Constraint* MakeConstraint(Type type, RigidPair& pair, CompliantParams const& co
                                        : MakePivotPosition(pair, compliance);
 }
 
+/// A workspace sized for `c`.
+internal::ConstraintWorkspace SizedWorkspace(Constraint const& c) {
+  internal::ConstraintWorkspace ws;
+  ws.Reserve(c.GetDimension(), c.GetNumDofs());
+  return ws;
+}
+
 /// A 1-contributor assembler over the scene's DoFs for constraint `c`, with
 /// the natural ordering.
 internal::HessianAssembler MakeAssembler(Scene const& scene, Constraint const& c) {
@@ -62,12 +71,13 @@ internal::HessianAssembler MakeAssembler(Scene const& scene, Constraint const& c
 /// rᶜ in DoF-list order as the stage solver assembles it (and, in
 /// `hessian` if given, the assembled Hessian restricted to those DoFs).
 VectorX Residual(Constraint const& c, internal::HessianAssembler& assembler,
-                 internal::ConstraintWorkspace& ws, MatrixX* hessian = nullptr) {
+                 internal::ConstraintWorkspace& ws, MatrixX* hessian = nullptr,
+                 ConstraintHessian mode = ConstraintHessian::GaussNewton, bool project = true) {
   VectorX gradient = VectorX::Zero(assembler.GetNumDofs());
   assembler.ZeroValues();
   ConstraintTestAccess::AddGradientAndHessian(c, kStageDuration,
                                               Span<real>(gradient.data(), gradient.size()),
-                                              assembler, 0, ws);
+                                              assembler, 0, ws, mode, project);
   DynamicArray<int> const& dofs = ConstraintTestAccess::Dofs(c);
   int const n = static_cast<int>(dofs.size());
   VectorX local(n);
@@ -109,9 +119,7 @@ TEST_CASE("compliant residual matches central differences of the incremental pot
   Pose const startA = RandomPose(0.6, 21), startB = RandomPose(2.4, 22);
   RigidPair pair = MakeRigidPair(startA, startB);
   Constraint* c = MakeConstraint(type, pair, compliance);
-  int const m = c->GetDimension(), n = c->GetNumDofs();
-  internal::ConstraintWorkspace ws;
-  ws.Reserve(m, n);
+  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
 
   // between steps the target moves (no UpdateOldTarget): the stage start
   // value differences against the old target p̂⁰ = kTargetPosition
@@ -271,8 +279,7 @@ TEST_CASE("Gauss-Newton Hessian (kappa + d/h) JtJ is symmetric PSD",
   RigidPair pair = MakeRigidPair(RandomPose(0.9, 31), RandomPose(3.0, 32));
   Constraint* c = MakeConstraint(type, pair, compliance);
   int const m = c->GetDimension(), n = c->GetNumDofs();
-  internal::ConstraintWorkspace ws;
-  ws.Reserve(m, n);
+  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
   ConstraintTestAccess::BeginStage(*c, ws);
   Error error;
   REQUIRE(pair.a->SetPose(Real3(0.2, 0.1, -0.3), Quat(Eigen::AngleAxis<real>(1.3, Real3::UnitY())),
@@ -317,8 +324,7 @@ TEST_CASE("Gauss-Newton Hessian equals the finite-difference Jacobian of the res
   RigidPair pair = MakeRigidPair(poseA, poseB);
   Constraint* c = MakeConstraint(type, pair, compliance);
   int const m = c->GetDimension(), n = c->GetNumDofs();
-  internal::ConstraintWorkspace ws;
-  ws.Reserve(m, n);
+  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
   internal::HessianAssembler assembler = MakeAssembler(*pair.scene, *c);
   Error error;
 
@@ -368,8 +374,7 @@ TEST_CASE("away from g = 0 the Gauss-Newton Hessian drops a visible second-deriv
   CompliantParams const compliance{.stiffness = 150, .damping = 4, .saturation = -1};
   RigidPair pair = MakeRigidPair(RandomPose(0.8, 41), RandomPose(2.6, 42));
   Constraint* c = MakeSphericalJoint(pair, compliance);
-  internal::ConstraintWorkspace ws;
-  ws.Reserve(c->GetDimension(), c->GetNumDofs());
+  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
   ConstraintTestAccess::BeginStage(*c, ws);
   REQUIRE(Deviation(*c).norm() > 0.1);
   internal::HessianAssembler assembler = MakeAssembler(*pair.scene, *c);
@@ -407,4 +412,68 @@ TEST_CASE("IsRangeInactive: only when g and the stage-start g are both all zero"
   VectorX f(3);
   internal::CompliantForceCoefficients(p, zero, full, kStageDuration, f);
   REQUIRE(f.norm() > 0);
+}
+
+// ---------------------------------------------------------------------------
+// (e) the constraint Hessian choices
+// ---------------------------------------------------------------------------
+
+TEST_CASE("constraint Hessian: Gauss-Newton, geometric stiffness exact and clamped, diagonal form",
+          "[constraints][compliant][geometric-stiffness]") {
+  Type const type = GENERATE(Type::SphericalJoint, Type::PivotPosition);
+  CAPTURE(Name(type));
+  CompliantParams const compliance{.stiffness = 150, .damping = 4, .saturation = -1};
+  RigidPair pair = MakeRigidPair(RandomPose(0.6, 31), RandomPose(2.4, 32));
+  Constraint* c = MakeConstraint(type, pair, compliance);
+  int const m = c->GetDimension(), n = c->GetNumDofs();
+  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
+  ConstraintTestAccess::BeginStage(*c, ws);
+  Error error;
+  Pose const poseA = RandomPose(1.1, 33), poseB = RandomPose(2.9, 34);
+  REQUIRE(pair.a->SetPose(poseA.position, poseA.rotation, error));
+  REQUIRE(pair.b->SetPose(poseB.position, poseB.rotation, error));
+  internal::HessianAssembler assembler = MakeAssembler(*pair.scene, *c);
+
+  // the reference blocks from g, J and G, formed here
+  VectorX const g = Deviation(*c);
+  VectorX const f = compliance.stiffness * g +
+                    compliance.damping / kStageDuration * (g - ConstraintTestAccess::StageStartValue(*c));
+  real const scale = compliance.stiffness + compliance.damping / kStageDuration;
+  ConstraintTestAccess::EvaluateCurrent(*c, ws);
+  MatrixX const jacobian = ws.jacobian.topLeftCorner(m, n);
+  MatrixX const gaussNewton = scale * jacobian.transpose() * jacobian;
+  MatrixX const curvature = ConstraintTestAccess::Curvature(*c, f);
+  REQUIRE(curvature.norm() > 1);
+  MatrixX const exact = gaussNewton + curvature;
+  Eigen::SelfAdjointEigenSolver<MatrixX> const eigen(exact);
+  REQUIRE(eigen.eigenvalues().minCoeff() < -1);  // indefinite here: the clamp has work
+  MatrixX const clamped =
+      eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0).asDiagonal() * eigen.eigenvectors().transpose();
+  MatrixX diagonal = gaussNewton;
+  for (int j = 0; j < n; ++j) diagonal(j, j) += curvature.col(j).norm();
+
+  MatrixX hessian;
+  VectorX const residual = Residual(*c, assembler, ws, &hessian, ConstraintHessian::GaussNewton);
+  REQUIRE(MaxScaledError(hessian, gaussNewton) <= 1e-12);
+  auto check = [&](ConstraintHessian mode, bool project, MatrixX const& expected) {
+    CAPTURE(ToString(mode), project);
+    MatrixX block;
+    VectorX const r = Residual(*c, assembler, ws, &block, mode, project);
+    REQUIRE(r == residual);  // the gradient does not depend on the Hessian
+    CAPTURE(block, expected);
+    REQUIRE(MaxScaledError(block, expected) <= 1e-10);
+  };
+  check(ConstraintHessian::GeometricStiffness, false, exact);
+  check(ConstraintHessian::GeometricStiffness, true, clamped);
+  check(ConstraintHessian::GeometricStiffnessDiagonal, false, diagonal);
+  check(ConstraintHessian::GeometricStiffnessDiagonal, true, diagonal);
+  // a constraint's own choice overrides the scene's
+  REQUIRE(c->SetHessianApproximation(ConstraintHessian::GaussNewton, error));
+  check(ConstraintHessian::GeometricStiffness, false, gaussNewton);
+  REQUIRE(c->SetHessianApproximation(ConstraintHessian::SceneDefault, error));
+  check(ConstraintHessian::GeometricStiffness, false, exact);
+  REQUIRE_FALSE(c->SetHessianApproximation(static_cast<ConstraintHessian>(9), error));
+  REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
+  REQUIRE(error.GetMessage().find("hessianApproximation") != std::string::npos);
+  REQUIRE(c->GetHessianApproximation() == ConstraintHessian::SceneDefault);
 }

@@ -70,7 +70,8 @@ internal::CompliantParams const kCompliance{.stiffness = 1e3, .damping = 0, .sat
 /// zero (a range component inside its bounds).
 enum class Row { Active, Zero };
 
-/// g against `expectedG`, J against central differences of GetDeviation.
+/// g against `expectedG`, J against central differences of GetDeviation,
+/// and the curvature G against central differences of Jᵀw (CheckCurvature).
 /// Active rows: non-zero in J and in the differences, and matching. Zero
 /// rows: g_i, row i of J and row i of the differences exactly 0 (no
 /// tolerance). When every row is active, every column must be non-zero too,
@@ -118,6 +119,8 @@ void CheckJacobian(Constraint const& c, VectorX const& expectedG,
   real const error = MaxScaledError(jacobian, fd);
   CAPTURE(error);
   REQUIRE(error <= kJacobianTol);
+  bool const anyActive = std::find(rows.begin(), rows.end(), Row::Active) != rows.end();
+  CheckCurvature(c, anyActive);
 }
 
 Real33 Matrix(Quat const& q) {

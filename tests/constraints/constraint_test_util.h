@@ -194,20 +194,18 @@ MatrixX CentralDifferenceOverDofs(Constraint const& c, real epsilon, F const& f)
   return result;
 }
 
-/// J against central differences over the constraint's global DoFs; the
-/// columns in `zeroColumns` must vanish (DoFs listed but not acting), every
-/// other one must not
-inline void CheckJacobian(Scene& scene, Constraint& c, DynamicArray<int> const& zeroColumns = {},
-                          real tolerance = 1e-6) {
-  int const m = c.GetDimension(), n = c.GetNumDofs();
-  internal::ConstraintWorkspace ws;
-  ws.Reserve(m, n);
-  ConstraintTestAccess::EvaluateCurrent(c, ws);
-  MatrixX const jacobian = ws.jacobian.topLeftCorner(m, n);
+/// Central differences of f() over the constraint's global DoFs in the
+/// tangent increments the stage solver applies (Actor::ApplyIncrementFromSaved),
+/// columns in DoF-list order: column j = (f(q ⊕ ε e_j) − f(q ⊕ −ε e_j)) / 2ε.
+template <class F>
+MatrixX CentralDifferenceOverIncrements(Constraint const& c, real eps, F const& f) {
+  int const n = c.GetNumDofs();
   DynamicArray<int> const& dofs = ConstraintTestAccess::Dofs(c);
-  DynamicArray<real> delta(scene.GetNumDofs(), 0);
-  real const eps = 1e-6;
-  MatrixX fd(m, n);
+  int numDofs = 0;
+  for (int a = 0; a < c.GetNumActors(); ++a)
+    numDofs = std::max(numDofs, c.GetActor(a)->GetDofOffset() + c.GetActor(a)->GetNumDofs());
+  DynamicArray<real> delta(numDofs, 0);
+  MatrixX fd;
   for (int j = 0; j < n; ++j) {
     Actor* owner = nullptr;
     for (int a = 0; a < c.GetNumActors(); ++a) {
@@ -219,12 +217,30 @@ inline void CheckJacobian(Scene& scene, Constraint& c, DynamicArray<int> const& 
     ActorTestAccess::SaveIterate(*owner);
     delta[dofs[j]] = eps;
     ActorTestAccess::ApplyIncrementFromSaved(*owner, delta, 1);
-    VectorX const plus = Deviation(c);
+    VectorX const plus = f();
     ActorTestAccess::ApplyIncrementFromSaved(*owner, delta, -1);
-    VectorX const minus = Deviation(c);
+    VectorX const minus = f();
     ActorTestAccess::RestoreIterate(*owner);
     delta[dofs[j]] = 0;
+    if (j == 0) fd.resize(plus.size(), n);
     fd.col(j) = (plus - minus) / (2 * eps);
+  }
+  return fd;
+}
+
+/// J against central differences over the constraint's global DoFs; the
+/// columns in `zeroColumns` must vanish (DoFs listed but not acting), every
+/// other one must not
+inline void CheckJacobian(Scene& /*scene*/, Constraint& c, DynamicArray<int> const& zeroColumns = {},
+                          real tolerance = 1e-6) {
+  int const m = c.GetDimension(), n = c.GetNumDofs();
+  internal::ConstraintWorkspace ws;
+  ws.Reserve(m, n);
+  ConstraintTestAccess::EvaluateCurrent(c, ws);
+  MatrixX const jacobian = ws.jacobian.topLeftCorner(m, n);
+  real const eps = 1e-6;
+  MatrixX const fd = CentralDifferenceOverIncrements(c, eps, [&] { return Deviation(c); });
+  for (int j = 0; j < n; ++j) {
     CAPTURE(j);
     bool const zero = std::find(zeroColumns.begin(), zeroColumns.end(), j) != zeroColumns.end();
     if (zero) {
@@ -238,4 +254,38 @@ inline void CheckJacobian(Scene& scene, Constraint& c, DynamicArray<int> const& 
   // smooth g: ε = 1e-6 gives ~1e-10 error against O(1) entries
   REQUIRE((jacobian - fd).cwiseAbs().maxCoeff() <= tolerance);
 }
+/// The geometric-stiffness term G = Σᵢ wᵢ ∂²gᵢ/∂q² (Constraint::DoAddCurvature)
+/// against central differences of the analytic gradient Jᵀw over the
+/// constraint's DoFs, for fixed weights w. For rotation increments the
+/// difference of a gradient taken at R and at Exp(ε eⱼ) R carries an extra
+/// antisymmetric term ½ ∇·(eᵢ × eⱼ) (the increments do not commute), so G is
+/// compared with the symmetric part of the difference matrix. `curved`: the
+/// curvature of g is non-zero here (G must not vanish, and the type must
+/// report HasCurvature; otherwise both G and the differences must vanish).
+inline void CheckCurvature(Constraint const& c, bool curved, real tolerance = 1e-6) {
+  int const m = c.GetDimension(), n = c.GetNumDofs();
+  VectorX weights(m);
+  for (int i = 0; i < m; ++i) weights[i] = std::array<real, 3>{0.7, -1.3, 0.45}[i % 3] * (1 + i / 3);
+  MatrixX const curvature = ConstraintTestAccess::Curvature(c, weights);
+  internal::ConstraintWorkspace ws;
+  ws.Reserve(m, n);
+  auto gradient = [&] {
+    ConstraintTestAccess::EvaluateCurrent(c, ws);
+    return VectorX(ws.jacobian.topLeftCorner(m, n).transpose() * weights);
+  };
+  MatrixX const fd = CentralDifferenceOverIncrements(c, 1e-6, gradient);
+  MatrixX const symmetric = 0.5 * (fd + fd.transpose());
+  CAPTURE(curvature, symmetric);
+  if (curved) {
+    REQUIRE(c.HasCurvature());
+    REQUIRE(symmetric.cwiseAbs().maxCoeff() > 1e-3);
+  } else {
+    REQUIRE(symmetric.cwiseAbs().maxCoeff() <= 1e-8);
+  }
+  REQUIRE(curvature.isApprox(curvature.transpose(), 1e-12));
+  // ε = 1e-6 central differences: ~1e-10 against O(1) entries
+  REQUIRE((curvature - symmetric).cwiseAbs().maxCoeff() <=
+          tolerance * std::max<real>(1, symmetric.cwiseAbs().maxCoeff()));
+}
+
 }  // namespace superdex::test

@@ -51,6 +51,8 @@ TEST_CASE("deformable coupling Jacobians match central differences", "[constrain
                            rotA * (a->GetNodeReferencePosition(4) + a->GetNodeDisplacement(4)) - p.position;
     REQUIRE((Deviation(*c) - expected).norm() <= 1e-14);
     CheckJacobian(*scene, *c);
+    REQUIRE(!c->HasCurvature());  // g linear in the displacements
+    CheckCurvature(*c, false);
     REQUIRE(c->SetTargetPosition(Real3(1, 2, 3), error));
   }
   SECTION("DeformableNodeToDeformableNode: g = T_A(X_A + u_A) - T_B(X_B + u_B)") {
@@ -65,6 +67,8 @@ TEST_CASE("deformable coupling Jacobians match central differences", "[constrain
     REQUIRE(c->GetNumDofs() == 6);
     REQUIRE((Deviation(*c) - (a->GetNodePosition(2) - b->GetNodePosition(9))).norm() <= 1e-14);
     CheckJacobian(*scene, *c);
+    REQUIRE(!c->HasCurvature());  // g linear in the displacements
+    CheckCurvature(*c, false);
   }
   SECTION("DeformableNodeToRigid: g = T_R(r) - T_D(X + u)") {
     DeformableNodeToRigidConstraintParams p;
@@ -81,6 +85,7 @@ TEST_CASE("deformable coupling Jacobians match central differences", "[constrain
     REQUIRE(c->GetActor(1) == rigid);
     REQUIRE((Deviation(*c) - (rigid->TransformPoint(p.localPos) - b->GetNodePosition(7))).norm() <= 1e-14);
     CheckJacobian(*scene, *c);
+    CheckCurvature(*c, true);
     // with fixToDeformablePos the pivot is chosen so that g starts at zero
     p.fixToDeformablePos = true;
     Constraint* fixed = scene->CreateDeformableNodeToRigidConstraint(p, error);
@@ -159,6 +164,7 @@ TEST_CASE("rod couplings: deformable types on rod nodes and RodElementRotationTo
     REQUIRE(std::abs(Deviation(*c).norm() - targetAngle) <= 1e-12);
     // θₑ₊₁ (column 3 + 7) is listed but does not act
     CheckJacobian(*scene, *c, {10});
+    CheckCurvature(*c, true);
   }
   SECTION("DeformableNodePosition, DeformableNodeToDeformableNode and DeformableNodeToRigid on rod nodes") {
     DeformableNodePositionConstraintParams pin;
@@ -173,6 +179,8 @@ TEST_CASE("rod couplings: deformable types on rod nodes and RodElementRotationTo
             DynamicArray<int>{rod->GetDofOffset() + 12, rod->GetDofOffset() + 13, rod->GetDofOffset() + 14});
     REQUIRE((Deviation(*c) - (rod->GetNodePosition(3) - pin.position)).norm() <= 1e-14);
     CheckJacobian(*scene, *c);
+    REQUIRE(!c->HasCurvature());  // g linear in the displacements
+    CheckCurvature(*c, false);
 
     DeformableNodeToDeformableNodeConstraintParams link;
     link.actorA = rod->GetHandle();
@@ -184,6 +192,8 @@ TEST_CASE("rod couplings: deformable types on rod nodes and RodElementRotationTo
     REQUIRE(c);
     REQUIRE((Deviation(*c) - (rod->GetNodePosition(5) - block->GetNodePosition(4))).norm() <= 1e-14);
     CheckJacobian(*scene, *c);
+    REQUIRE(!c->HasCurvature());  // g linear in the displacements
+    CheckCurvature(*c, false);
 
     DeformableNodeToRigidConstraintParams hang;
     hang.deformableActor = rod->GetHandle();
@@ -196,6 +206,7 @@ TEST_CASE("rod couplings: deformable types on rod nodes and RodElementRotationTo
     REQUIRE(c);
     REQUIRE((Deviation(*c) - (rigid->TransformPoint(hang.localPos) - rod->GetNodePosition(1))).norm() <= 1e-14);
     CheckJacobian(*scene, *c);
+    CheckCurvature(*c, true);
   }
   SECTION("bad input: wrong actor kinds, element out of range") {
     RodElementRotationToRigidConstraintParams p;

@@ -19,7 +19,8 @@ EXPECTED = {
                       "get_num_dofs is_range get_stiffness get_damping get_saturation set_stiffness set_damping "
                       "set_saturation set_target_position set_target_rotation set_target_transform "
                       "set_target_dof update_old_target get_deviation is_query_supported register_query "
-                      "get_force get_limit_min_values get_limit_max_values",
+                      "get_force get_limit_min_values get_limit_max_values has_curvature "
+                      "get_hessian_approximation set_hessian_approximation",
     mochi.Actor: "get_handle get_type get_num_dofs get_dof_offset",
     mochi.NodalActor: "get_num_nodes get_node_position get_node_velocity get_node_mass get_transform_rotation "
                       "get_node_dof_stride get_node_position_dofs get_node_positions",
@@ -67,7 +68,7 @@ MODULE = ("Error ErrorCode ActorHandle ConstraintHandle hat exp exp_matrix log l
           "ArticulatedActorParams RodStiffness TetMesh TriangleMesh make_tet_box make_triangle_grid make_hinges "
           "read_tet_gen read_gmsh_tets read_gmsh_triangles read_obj validate_tet_mesh validate_triangle_mesh "
           "remove_unused_nodes signed_volume VtkPointData write_vtu write_vtu_polylines write_rods_vtu "
-          "ConstraintType QueryType "
+          "ConstraintType QueryType ConstraintHessian "
           "RigidSphericalJointConstraintParams RigidPrismaticJointConstraintParams "
           "JointRotationRangeConstraintParams JointRotationTrackingConstraintParams "
           "RigidPivotPositionConstraintParams RigidPivotToRigidTargetConstraintParams "
@@ -96,6 +97,10 @@ def test_every_enum_value_is_bound():
     assert list(mochi.IntegratorType.__members__) == ["BackwardEuler", "Bdf2"]
     assert list(mochi.LinearSolverType.__members__) == ["Auto", "Cholmod", "PetscPcg", "Dense"]
     assert len(mochi.PcgPreconditioner.__members__) == 7
+    assert list(mochi.ConstraintHessian.__members__) == [
+        "SceneDefault", "GaussNewton", "GeometricStiffness", "GeometricStiffnessDiagonal"]
+    assert mochi.NewtonParams().constraint_hessian == mochi.ConstraintHessian.GeometricStiffness
+    assert hasattr(mochi.SceneStats, "round_off_convergences")
 
 
 def test_everything_has_a_docstring():

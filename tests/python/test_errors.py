@@ -61,6 +61,9 @@ def test_scene_params_are_validated():
     with raises(mochi.ErrorCode.InvalidArgument, "relativeTolerance"):
         mochi.Scene.create(linear_solver=mochi.LinearSolverType.PetscPcg,
                            pcg=mochi.PcgParams(relative_tolerance=2))
+    with raises(mochi.ErrorCode.InvalidArgument, "SceneParams.newton.constraintHessian"):
+        mochi.Scene.create(newton=mochi.NewtonParams(
+            constraint_hessian=mochi.ConstraintHessian.SceneDefault))
 
 
 @pytest.mark.parametrize("field,value,fragment", [
@@ -147,6 +150,10 @@ def test_runtime_setters(scene):
             pin.set_damping(bad)
     with raises(mochi.ErrorCode.InvalidArgument, "saturation"):
         pin.set_saturation(NAN)
+    assert pin.has_curvature()
+    assert pin.get_hessian_approximation() == mochi.ConstraintHessian.SceneDefault
+    pin.set_hessian_approximation(mochi.ConstraintHessian.GaussNewton)
+    assert pin.get_hessian_approximation() == mochi.ConstraintHessian.GaussNewton
     assert (pin.get_stiffness(), pin.get_damping()) == (100, 1)
     with raises(mochi.ErrorCode.InvalidArgument, "position"):
         pin.set_target_position([NAN, 0, 0])

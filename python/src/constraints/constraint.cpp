@@ -30,6 +30,20 @@ void DefineConstraint(py::module_& m) {
       .value("ConstraintForce", QueryType::ConstraintForce,
              "the generalized constraint force -r_c at the end of the last step (get_force)");
 
+  py::enum_<ConstraintHessian>(
+      m, "ConstraintHessian",
+      "How a constraint's block of the Newton Hessian is formed; the minimizer is the same "
+      "whichever is chosen (docs/constraints.md, 'The constraint Hessian').")
+      .value("SceneDefault", ConstraintHessian::SceneDefault,
+             "per constraint: use the scene's NewtonParams.constraint_hessian")
+      .value("GaussNewton", ConstraintHessian::GaussNewton,
+             "the reference page's (κ + d/Δt) JᵀJ")
+      .value("GeometricStiffness", ConstraintHessian::GeometricStiffness,
+             "(κ + d/Δt) JᵀJ + Σ f_i ∂²g_i/∂q², exact while Newton tries exact Hessians, the block "
+             "clamped to PSD in projected iterations (scene default)")
+      .value("GeometricStiffnessDiagonal", ConstraintHessian::GeometricStiffnessDiagonal,
+             "(κ + d/Δt) JᵀJ + diag(column norms of the curvature) (Andrews et al. 2017)");
+
   using Ref = ConstraintRef;
   using C = Constraint;
   py::class_<Ref> cls(
@@ -59,6 +73,8 @@ void DefineConstraint(py::module_& m) {
       .def("get_dimension", Forward<Ref>(&C::GetDimension), "m, the dimension of g.")
       .def("get_num_dofs", Forward<Ref>(&C::GetNumDofs), "n, the number of DoFs coupled.")
       .def("is_range", Forward<Ref>(&C::IsRange), "True for range (unilateral) types.")
+      .def("has_curvature", Forward<Ref>(&C::HasCurvature),
+           "True when g is nonlinear in the DoF increments (geometric stiffness can be non-zero).")
       // ---- parameters ----
       .def("get_stiffness", Forward<Ref>(&C::GetStiffness), "k [N/m or N·m/rad].")
       .def("get_damping", Forward<Ref>(&C::GetDamping), "d [N·s/m or N·m·s/rad].")
@@ -79,6 +95,14 @@ void DefineConstraint(py::module_& m) {
             Checked([&](Error& e) { self.Get().SetSaturation(s, e); });
           },
           py::arg("saturation"), "ḡ: finite; <= 0 (e.g. -1) disables saturation. Force cap = k·ḡ.")
+      .def("get_hessian_approximation", Forward<Ref>(&C::GetHessianApproximation),
+           "This constraint's ConstraintHessian (SceneDefault: the scene's choice).")
+      .def(
+          "set_hessian_approximation",
+          [](Ref const& self, ConstraintHessian h) {
+            Checked([&](Error& e) { self.Get().SetHessianApproximation(h, e); });
+          },
+          py::arg("hessian"), "A ConstraintHessian; SceneDefault follows the scene's choice.")
       // ---- kinematic targets ----
       .def(
           "set_target_position",

@@ -18,12 +18,16 @@ void DefineSceneParams(py::module_& m) {
   ParamsClass<N>(m, "NewtonParams", "Newton's method on each stage's incremental potential.")
       .Field("max_iterations", &N::maxIterations, "> 0, default 50")
       .Field("velocity_tolerance", &N::velocityTolerance,
-             "converged when max_j |δq_j| / Δt <= velocity_tolerance [m/s or rad/s], > 0, "
-             "default 1e-6")
+             "converged when max_j l_j |δq_j| / Δt <= velocity_tolerance [m/s], l_j = 1 m for "
+             "displacements and a rigid body's rms radius for its rotations (or when the Newton "
+             "decrement is at the round-off floor of the energy), > 0, default 1e-6")
       .Field("max_line_search_steps", &N::maxLineSearchSteps,
              "backtracking halvings before failure, > 0")
       .Field("hessian_projection", &N::hessianProjection,
-             "HessianProjection, default WhenIndefinite");
+             "HessianProjection, default WhenIndefinite")
+      .Field("constraint_hessian", &N::constraintHessian,
+             "ConstraintHessian of every constraint that does not choose its own, default "
+             "GeometricStiffness (SceneDefault is refused here)");
 
   using S = SceneParams;
   ParamsClass<S>(m, "SceneParams",
@@ -51,6 +55,9 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("linear_iterations", &T::linearIterations, "last step; iterative solvers only")
       .def_readonly("projection_fallbacks", &T::projectionFallbacks,
                     "last step: Newton iterations re-assembled with projected Hessians")
+      .def_readonly("round_off_convergences", &T::roundOffConvergences,
+                    "last step: stages converged on a Newton decrement at the round-off floor of "
+                    "the energy, not on the step norm")
       .def_readonly("linear_solves", &T::linearSolves, "last step")
       .def_readonly("gradient_norm", &T::gradientNorm, "||∇E||∞ at the last Newton iteration")
       .def_readonly("num_dofs", &T::numDofs)
