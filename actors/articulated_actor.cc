@@ -1,5 +1,6 @@
 #include <superdex/actors/articulated_actor.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <superdex/assembly/hessian_assembler.h>
@@ -172,6 +173,9 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   a.jointTarget_ = VectorX::Zero(numDofs);
   a.kinematics_.motion.resize(6, numDofs);
   a.hessian_ = MatrixX::Zero(numDofs, numDofs);
+  a.modifiedFactor_ = Eigen::LDLT<MatrixX>(numDofs);
+  a.modifiedColumn_ = VectorX::Zero(numDofs);
+  a.modifiedOrder_.assign(numDofs, 0);
   a.composite_.resize(numLinks);
   for (auto* v : {&a.wrenchForce_, &a.wrenchMoment_, &a.torqueSum_}) v->resize(numLinks);
   a.forceMoment_.resize(numLinks);
@@ -487,8 +491,7 @@ void ArticulatedActor::AddGradientAndHessian(Span<real> gradient, internal::Hess
     wrenchMoment_[i] = tau + k.com[i].cross(f);
     torqueSum_[i] = tau;
     forceMoment_[i] = k.com[i] * f.transpose();
-    Real33 const rotation = projectHessian ? inertia_[i].RotationHessianGaussNewton(k.linkRotation[i])
-                                           : inertia_[i].RotationHessian(k.linkRotation[i]);
+    Real33 const rotation = inertia_[i].RotationHessian(k.linkRotation[i]);
     composite_[i] = SpatialStiffness(rotation, inertia_[i].TranslationStiffness(), k.com[i]);
   }
   for (int i = numLinks - 1; i > 0; --i) {
@@ -529,7 +532,7 @@ void ArticulatedActor::AddGradientAndHessian(Span<real> gradient, internal::Hess
   // (P = Σ c fᵀ, F = Σ f, T = Σ τ); within one spherical or free joint the
   // rotations are exponential coordinates: the symmetric ½(ÂB̂ + B̂Â) and
   // no torque term; a free joint's translations act before its rotations
-  if (!projectHessian) {
+  {
     for (int c = 0; c < numLinks; ++c) {
       Link const& lk = links_[c];
       Real33 const& p = forceMoment_[c];
@@ -599,7 +602,35 @@ void ArticulatedActor::AddGradientAndHessian(Span<real> gradient, internal::Hess
       case JointType::Fixed: break;
     }
   }
+  if (projectHessian) ModifyHessianToPositiveDefinite();
   assembler.AddBlock(firstContributor, hessian_);
+}
+
+void ArticulatedActor::ModifyHessianToPositiveDefinite() const {
+  // Eigen's pivoted LDLᵀ, H = Pᵀ L D Lᵀ P; each pivot replaced by its
+  // magnitude, floored at 1e-10 of the largest: H₊ = Pᵀ L |D|₊ Lᵀ P, equal
+  // to H where H is positive definite, keeping the curvature's magnitude
+  // where it is not (a modified Cholesky). Only the changed pivots enter:
+  // H₊ = H + Σₖ (|Dₖ|₊ − Dₖ) (Pᵀ lₖ)(Pᵀ lₖ)ᵀ, a rank update per negative pivot
+  int const n = static_cast<int>(hessian_.rows());
+  if (n == 0) return;
+  modifiedFactor_.compute(hessian_);
+  auto const pivots = modifiedFactor_.vectorD();
+  real const floor = 1e-10 * pivots.cwiseAbs().maxCoeff();
+  // P x = x[order]: the transpositions applied to the identity order
+  auto const& transpositions = modifiedFactor_.transpositionsP();
+  for (int i = 0; i < n; ++i) modifiedOrder_[i] = i;
+  for (int k = 0; k < n; ++k) std::swap(modifiedOrder_[k], modifiedOrder_[transpositions.coeff(k)]);
+  auto const& factor = modifiedFactor_.matrixLDLT();  // L strictly below the diagonal
+  for (int k = 0; k < n; ++k) {
+    real const change = std::max(std::abs(pivots[k]), floor) - pivots[k];
+    if (change <= 0) continue;
+    // Pᵀ lₖ: lₖ(i) goes to row order[i]; lₖ(k) = 1, lₖ(i < k) = 0
+    modifiedColumn_.setZero();
+    modifiedColumn_[modifiedOrder_[k]] = 1;
+    for (int i = k + 1; i < n; ++i) modifiedColumn_[modifiedOrder_[i]] = factor(i, k);
+    hessian_.noalias() += change * modifiedColumn_ * modifiedColumn_.transpose();
+  }
 }
 
 void ArticulatedActor::SaveIterate() { saved_ = state_.joints; }

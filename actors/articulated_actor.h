@@ -42,6 +42,8 @@
 // kept.
 #pragma once
 
+#include <Eigen/Cholesky>
+
 #include <superdex/actors/actor.h>
 #include <superdex/actors/rigid_inertia.h>
 #include <superdex/core/error.h>
@@ -205,6 +207,13 @@ class ArticulatedActor final : public Actor {
   VectorX jointTarget_;  ///< Δ̂q, the reduced prediction (armature)
   mutable Kinematics kinematics_;
   mutable MatrixX hessian_;
+  // the projected Hessian's modified factorization (sized at creation)
+  mutable Eigen::LDLT<MatrixX> modifiedFactor_;
+  mutable VectorX modifiedColumn_;
+  mutable DynamicArray<int> modifiedOrder_;
+  /// hessian_ ← Pᵀ L |D|₊ Lᵀ P from its pivoted LDLᵀ Pᵀ L D Lᵀ P (a
+  /// modified Cholesky: equal where positive definite).
+  void ModifyHessianToPositiveDefinite() const;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> composite_;
   mutable DynamicArray<Real3> wrenchForce_, wrenchMoment_, torqueSum_;
   mutable DynamicArray<Real33> forceMoment_;
