@@ -1,5 +1,7 @@
 #include <superdex/scene/integrator.h>
 
+#include <cmath>
+
 namespace superdex {
 
 std::string_view ToString(IntegratorType type) {
@@ -23,6 +25,10 @@ StageCoefficients MakeStage(IntegratorType type, real dt, bool hasHistory) {
     s.usesHistory = true;
   }
   return s;
+}
+
+bool IsHistoryUsable(real historyStep, real dt) {
+  return historyStep > 0 && std::abs(historyStep - dt) <= kHistoryStepTolerance * dt;
 }
 
 }  // namespace internal

@@ -43,5 +43,17 @@ struct StageCoefficients {
 /// step (BDF2 then falls back to backward Euler).
 StageCoefficients MakeStage(IntegratorType type, real dt, bool hasHistory);
 
+/// Relative difference under which two step sizes count as equal for the
+/// history (round-off in a caller's dt, e.g. differences of frame times).
+inline constexpr real kHistoryStepTolerance = 1e-9;
+
+/// Whether the history recorded by a step of `historyStep` (0: no step yet)
+/// may be used by a step of `dt`. The BDF2 coefficients above are those of
+/// equal steps (Δₚ spans h): with a history over another step size the
+/// velocity update is inconsistent (after a step of h/2, a body in free
+/// fall gains (5/6) g h instead of g h), so the step then restarts as
+/// backward Euler; the history it records serves the next step of its size.
+bool IsHistoryUsable(real historyStep, real dt);
+
 }  // namespace internal
 }  // namespace superdex

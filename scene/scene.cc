@@ -542,8 +542,9 @@ bool Scene::Step(real dt, Error& error) {
   for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
     constraintSnapshots_[i] = constraintOrder_[i]->oldTarget_;
 
-  bool const hasHistory = stats_.steps > 0;
-  internal::StageCoefficients const stage = internal::MakeStage(params_.integrator, dt, hasHistory);
+  // BDF2 uses the history only when it spans a step of this size
+  internal::StageCoefficients const stage =
+      internal::MakeStage(params_.integrator, dt, internal::IsHistoryUsable(historyStep_, dt));
   Error stageError;
   bool ok = solver_->Solve(0, stage, actorOrder_, constraintOrder_, params_.gravity, params_.newton,
                            stats_, stageError);
@@ -557,6 +558,7 @@ bool Scene::Step(real dt, Error& error) {
                                         stageError.GetMessage() + "; the scene is unchanged");
     return false;
   }
+  historyStep_ = dt;
   time_ += dt;
   ++stats_.steps;
   stats_.stepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -161,6 +161,9 @@ class Scene {
   std::unique_ptr<internal::StageSolver> solver_;
   SceneStats stats_;
   real time_ = 0;
+  /// Step size over which the actors' integrator history was recorded (the
+  /// last committed stage's duration; 0 before the first step).
+  real historyStep_ = 0;
   // pre-step copies for transactional steps (reused across steps)
   DynamicArray<std::unique_ptr<internal::ActorSnapshot>> actorSnapshots_;
   DynamicArray<Constraint::Target> constraintSnapshots_;
