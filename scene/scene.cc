@@ -24,6 +24,19 @@ namespace {
 std::string HandleText(ActorHandle h) {
   return "{index " + std::to_string(h.index) + ", generation " + std::to_string(h.generation) + "}";
 }
+
+// maxSubsteps a power of two >= 1: every attempt halves the last one's
+// sub-step, so the cap is itself an attempt and dt/k is exact
+bool CheckSubstepParams(SubstepParams const& p, std::string const& prefix, Error& error) {
+  int const n = p.maxSubsteps;
+  if (n < 1 || (n & (n - 1)) != 0) {
+    error.Set(ErrorCode::InvalidArgument,
+              prefix + "maxSubsteps must be a power of two >= 1 (1 turns sub-stepping off), got " +
+                  std::to_string(n));
+    return false;
+  }
+  return true;
+}
 }  // namespace
 
 Scene::Scene(SceneParams const& params)
@@ -56,6 +69,7 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
                                                std::to_string(params.newton.maxLineSearchSteps));
     return nullptr;
   }
+  if (!CheckSubstepParams(params.substeps, "SceneParams.substeps.", error)) return nullptr;
   std::unique_ptr<Scene> scene(new Scene(params));
   if (!scene->solver_->SetLinearSolver(params.linearSolver, params.pcg, error)) {
     // name the field as the caller wrote it
@@ -513,6 +527,12 @@ bool Scene::SetLinearSolver(LinearSolverType type, PcgParams const& pcg, Error& 
   return true;
 }
 
+bool Scene::SetSubstepParams(SubstepParams const& substeps, Error& error) {
+  if (!CheckSubstepParams(substeps, "SubstepParams.", error)) return false;
+  params_.substeps = substeps;
+  return true;
+}
+
 bool Scene::Step(real dt, Error& error) {
   if (!internal::CheckPositive(dt, "dt", error)) return false;
   auto const start = std::chrono::steady_clock::now();
@@ -542,27 +562,141 @@ bool Scene::Step(real dt, Error& error) {
   for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
     constraintSnapshots_[i] = constraintOrder_[i]->oldTarget_;
 
-  // BDF2 uses the history only when it spans a step of this size
-  internal::StageCoefficients const stage =
-      internal::MakeStage(params_.integrator, dt, internal::IsHistoryUsable(historyStep_, dt));
+  // the step whole; if it fails, again from the exact pre-step state as 2,
+  // 4, ... sub-steps, up to the policy's cap (SubstepParams)
+  real historyStep = historyStep_;
+  int substeps = 1, failedSubstep = 0;
   Error stageError;
-  bool ok = solver_->Solve(0, stage, actorOrder_, constraintOrder_, params_.gravity, params_.newton,
-                           stats_, stageError);
+  bool ok = AdvanceSubsteps(dt, substeps, historyStep, failedSubstep, stageError);
+  while (!ok && substeps < params_.substeps.maxSubsteps) {
+    RestorePreStepState();
+    SaveOrRestoreSubstepState(/*save=*/substeps == 1);
+    substeps *= 2;
+    historyStep = historyStep_;
+    ok = AdvanceSubsteps(dt, substeps, historyStep, failedSubstep, stageError);
+  }
+  stats_.substeps = substeps;
   if (!ok) {
-    for (std::size_t i = 0; i < actorOrder_.size(); ++i)
-      actorOrder_[i]->RestoreSnapshot(*actorSnapshots_[i]);
-    for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
-      constraintOrder_[i]->oldTarget_ = constraintSnapshots_[i];
+    RestorePreStepState();
+    if (substeps > 1) SaveOrRestoreSubstepState(/*save=*/false);
+    std::string where = stageError.GetMessage();
+    if (substeps > 1) {
+      std::string attempts = "1";
+      for (int k = 2; k <= substeps; k *= 2)
+        attempts += (k == substeps ? " and " : ", ") + std::to_string(k);
+      real const h = dt / substeps;
+      where = "sub-step " + std::to_string(failedSubstep) + " of " + std::to_string(substeps) +
+              " (dt/" + std::to_string(substeps) + " = " + internal::Format(h) +
+              " from t = " + internal::Format(time_ + (failedSubstep - 1) * h) +
+              "), the last of the attempts as " + attempts +
+              " sub-steps (SceneParams.substeps.maxSubsteps = " +
+              std::to_string(params_.substeps.maxSubsteps) + "): " + where;
+    }
     error.Set(stageError.GetCode(), "Step(dt = " + internal::Format(dt) + ") at t = " +
-                                        internal::Format(time_) + " failed in " +
-                                        stageError.GetMessage() + "; the scene is unchanged");
+                                        internal::Format(time_) + " failed in " + where +
+                                        "; the scene is unchanged");
     return false;
   }
-  historyStep_ = dt;
+  historyStep_ = historyStep;
   time_ += dt;
   ++stats_.steps;
+  if (substeps > 1) ++stats_.substeppedSteps;
   stats_.stepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return true;
+}
+
+bool Scene::AdvanceSubsteps(real dt, int substeps, real& historyStep, int& failedSubstep,
+                            Error& error) {
+  real const h = dt / substeps;
+  for (int index = 1; index <= substeps; ++index) {
+    if (substeps > 1) SetSubstepTargets(index, substeps);
+    // BDF2 uses the history only when it spans a step of this size
+    internal::StageCoefficients const stage =
+        internal::MakeStage(params_.integrator, h, internal::IsHistoryUsable(historyStep, h));
+    if (!solver_->Solve(0, stage, actorOrder_, constraintOrder_, params_.gravity, params_.newton,
+                        stats_, error)) {
+      failedSubstep = index;
+      return false;
+    }
+    historyStep = h;
+  }
+  return true;
+}
+
+void Scene::RestorePreStepState() {
+  for (std::size_t i = 0; i < actorOrder_.size(); ++i)
+    actorOrder_[i]->RestoreSnapshot(*actorSnapshots_[i]);
+  for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
+    constraintOrder_[i]->oldTarget_ = constraintSnapshots_[i];
+}
+
+void Scene::SaveOrRestoreSubstepState(bool save) {
+  std::size_t const n = constraintOrder_.size();
+  if (save) {
+    targetSnapshots_.resize(n);
+    forceSnapshots_.resize(n);
+    forceValidSnapshots_.resize(n);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    Constraint& c = *constraintOrder_[i];
+    if (save) {
+      targetSnapshots_[i] = c.target_;
+      forceSnapshots_[i] = c.force_;
+      forceValidSnapshots_[i] = c.forceValid_;
+    } else {
+      c.target_ = targetSnapshots_[i];
+      c.force_ = forceSnapshots_[i];
+      c.forceValid_ = forceValidSnapshots_[i];
+    }
+  }
+}
+
+namespace {
+// (templates: Constraint::Target is the scene's to name, not these helpers')
+// out[i] = a[i] + s (b[i] − a[i]) for i in [first, first + count)
+template <class Target>
+void Lerp(Target const& a, Target const& b, real s, int first, int count, Target& out) {
+  for (int i = first; i < first + count; ++i) out[i] = a[i] + s * (b[i] - a[i]);
+}
+
+// the unit quaternion (w, x, y, z) at `first`: slerp from a's to b's (shortest arc)
+template <class Target>
+void Slerp(Target const& a, Target const& b, real s, int first, Target& out) {
+  Quat const qa(a[first], a[first + 1], a[first + 2], a[first + 3]);
+  Quat const qb(b[first], b[first + 1], b[first + 2], b[first + 3]);
+  Quat const q = qa.slerp(s, qb).normalized();
+  out[first] = q.w(), out[first + 1] = q.x(), out[first + 2] = q.y(), out[first + 3] = q.z();
+}
+}  // namespace
+
+void Scene::SetSubstepTargets(int index, int substeps) {
+  real const s = static_cast<real>(index) / substeps;
+  for (std::size_t i = 0; i < constraintOrder_.size(); ++i) {
+    Constraint& c = *constraintOrder_[i];
+    Constraint::Target const& from = constraintSnapshots_[i];  // the old target p̂ᵢ⁰
+    Constraint::Target const& to = targetSnapshots_[i];        // as the caller set it
+    if (index == substeps || from == to) {
+      c.target_ = to;
+      continue;
+    }
+    switch (c.targetKind_) {
+      case Constraint::TargetKind::None:
+        break;
+      case Constraint::TargetKind::Position:
+        Lerp(from, to, s, 0, 3, c.target_);
+        break;
+      case Constraint::TargetKind::Dof:
+        Lerp(from, to, s, 0, 1, c.target_);
+        break;
+      case Constraint::TargetKind::Rotation:
+        Slerp(from, to, s, 0, c.target_);
+        break;
+      case Constraint::TargetKind::Transform:
+        Lerp(from, to, s, 0, 3, c.target_);
+        Slerp(from, to, s, 3, c.target_);
+        break;
+    }
+  }
 }
 
 namespace internal {

@@ -6,7 +6,9 @@
 //
 // A step is transactional: if any stage fails, every actor (and constraint
 // state) is restored exactly to its pre-step state and Step returns false
-// with an Error naming the stage, the Newton iteration and the cause.
+// with an Error naming the stage, the Newton iteration and the cause. With
+// SceneParams::substeps (off by default) a failed step first retries itself
+// from that exact state as 2, 4, ... sub-steps.
 #pragma once
 
 #include <functional>
@@ -47,7 +49,8 @@ void SetFaultInjectionForTesting(Scene& scene, FaultInjection const& fault);
 class Scene {
  public:
   /// Validates `params` (finite gravity, positive Newton settings, a
-  /// compiled-in linear solver); nullptr and `error` on bad input.
+  /// compiled-in linear solver, maxSubsteps a power of two); nullptr and
+  /// `error` on bad input.
   static std::unique_ptr<Scene> Create(SceneParams const& params, Error& error);
   ~Scene();
   Scene(Scene const&) = delete;
@@ -110,7 +113,14 @@ class Scene {
 
   // ---- stepping ----
   /// Advances by dt (finite, > 0). Transactional: on failure nothing changes.
+  /// With SubstepParams::maxSubsteps > 1, a failed step is retried from the
+  /// exact pre-step state as 2, 4, ... sub-steps of dt/2, dt/4, ... (up to
+  /// the cap) before it fails; the error then is the last attempt's, naming
+  /// its sub-step. GetTime advances by exactly dt either way.
   bool Step(real dt, Error& error);
+  /// Sets the sub-stepping policy between steps (maxSubsteps a power of two
+  /// >= 1; 1 turns it off). On invalid input nothing changes.
+  bool SetSubstepParams(SubstepParams const& substeps, Error& error);
   /// Switches the linear solver between steps; the new backend analyzes the
   /// cached pattern at the next step. `pcg` configures PetscPcg (validated
   /// even when another type is chosen). On failure nothing changes.
@@ -151,6 +161,19 @@ class Scene {
   bool GetRigidPair(ActorHandle actorA, ActorHandle actorB, std::string_view paramsName,
                     RigidActor*& a, RigidActor*& b, Error& error) const;
   void OnTopologyChanged();
+  /// One attempt at a step of dt as `substeps` equal sub-steps from the
+  /// current (pre-step) state; on failure `failedSubstep` is the 1-based
+  /// sub-step that failed and the scene is left at some iterate.
+  bool AdvanceSubsteps(real dt, int substeps, real& historyStep, int& failedSubstep, Error& error);
+  /// Puts back the actors and the old targets saved at the step start.
+  void RestorePreStepState();
+  /// Saves (`save`) or restores the constraint targets and forces, which a
+  /// sub-stepped attempt changes (interpolated targets; a sub-step's forces).
+  void SaveOrRestoreSubstepState(bool save);
+  /// Sets each target of sub-step `index` (1-based) of `substeps`: the
+  /// point at index/substeps on the way from the old target (the step
+  /// start's) to the target the caller set, which is the last sub-step's.
+  void SetSubstepTargets(int index, int substeps);
 
   SceneParams params_;
   internal::SlotMap<Actor, ActorTag> actors_;
@@ -167,6 +190,10 @@ class Scene {
   // pre-step copies for transactional steps (reused across steps)
   DynamicArray<std::unique_ptr<internal::ActorSnapshot>> actorSnapshots_;
   DynamicArray<Constraint::Target> constraintSnapshots_;
+  // what a sub-stepped attempt changes besides (sized on the first retry)
+  DynamicArray<Constraint::Target> targetSnapshots_;
+  DynamicArray<DynamicArray<real>> forceSnapshots_;
+  DynamicArray<char> forceValidSnapshots_;
 };
 
 }  // namespace superdex

@@ -49,10 +49,31 @@ struct NewtonParams {
   ConstraintHessian constraintHessian = ConstraintHessian::GeometricStiffness;
 };
 
+/// Automatic sub-stepping: a policy for steps that fail, off by default.
+///
+/// With maxSubsteps > 1, a step of dt whose stage fails (Newton, the linear
+/// solver or a non-finite state) is retried from the exact pre-step state as
+/// 2 sub-steps of dt/2, then 4 of dt/4, ..., up to maxSubsteps; the first
+/// attempt whose every sub-step succeeds is kept. If the last attempt fails
+/// too, the scene is restored exactly and Step returns that attempt's Error.
+/// The sub-steps are exactly the steps Step(dt/k) would take k times
+/// (integrator history restarted where the step size changes), with the
+/// kinematic targets set before the step reached along a straight line from
+/// the old targets; docs/architecture.md ("Sub-stepping") gives the rules.
+/// Off by default so that a Newton that does not converge at the requested
+/// dt is reported, not hidden; SceneStats::substeps and substeppedSteps say
+/// when it was used.
+struct SubstepParams {
+  /// The most sub-steps one step may be split into: a power of two >= 1.
+  /// 1 (the default) turns sub-stepping off.
+  int maxSubsteps = 1;
+};
+
 struct SceneParams {
   Real3 gravity{0, -9.81, 0};  ///< [m/s²]; y is up
   IntegratorType integrator = IntegratorType::BackwardEuler;
   NewtonParams newton;
+  SubstepParams substeps;  ///< retry of a failed step as sub-steps (off by default)
   LinearSolverType linearSolver = LinearSolverType::Auto;
   PcgParams pcg;  ///< used when linearSolver is PetscPcg
   OrderingMethod ordering = OrderingMethod::Metis;
@@ -66,8 +87,15 @@ struct SceneStats {
   /// External solver objects created (PETSc Mat + KSP: once per pattern the
   /// PCG backend analyzes); 0 for CHOLMOD and dense.
   std::int64_t linearSolverObjectBuilds = 0;
+  /// Successful steps that needed sub-stepping (SubstepParams): their
+  /// attempt at the full dt failed.
+  std::int64_t substeppedSteps = 0;
 
-  // last step
+  // last step (the figures below add up every attempt of a sub-stepped
+  // step, failed attempts included: they are what the step cost)
+  /// Sub-steps of the last step's last attempt: 1 for a step taken whole,
+  /// k for one taken as k sub-steps of dt/k (0 before the first step).
+  int substeps = 0;
   int newtonIterations = 0;
   int linearIterations = 0;        ///< iterative solvers; 0 for direct ones
   int projectionFallbacks = 0;     ///< Newton iterations re-assembled with projected Hessians

@@ -51,6 +51,19 @@ TEST_CASE("steps after the first allocate nothing", "[scene][allocation]") {
   RequireStepsAllocateNothing(*chain.scene, 1e-3, 20);
 }
 
+TEST_CASE("steps with sub-stepping enabled allocate nothing while it is not needed",
+          "[scene][allocation][substep]") {
+  // the policy costs nothing on steps that succeed whole (a retry's buffers
+  // are sized by the first retry; a failed attempt's Error message allocates)
+  SceneParams params;
+  params.integrator = IntegratorType::Bdf2;
+  params.substeps.maxSubsteps = 8;
+  Chain chain = MakeChain(12, params);
+  StepOk(*chain.scene, 1e-3, 2);
+  RequireStepsAllocateNothing(*chain.scene, 1e-3, 20);
+  REQUIRE(chain.scene->GetStats().substeppedSteps == 0);
+}
+
 TEST_CASE("deformable steps after the first allocate nothing", "[scene][allocation]") {
   SceneParams params;
   params.integrator = IntegratorType::Bdf2;

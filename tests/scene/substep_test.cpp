@@ -1,0 +1,295 @@
+// Automatic sub-stepping (SubstepParams): a step that fails at dt is retried
+// from the exact pre-step state as 2, 4, ... sub-steps; it equals the steps
+// Step(dt/k) would take (targets interpolated from the old to the new one,
+// BDF2 history restarted where the step size changes), it is reported in
+// SceneStats, and a step whose every attempt fails changes nothing.
+//
+// The scene that needs it: a chain of 6 rigid bodies on stiff joints
+// (1e6 N/m) released horizontally at dt = 0.05. Newton (50 iterations) fails
+// its first step whole; as 2 sub-steps of 0.025 it needs 7 and 16 iterations.
+#include "test_scenes.h"
+#include "white_box.h"
+
+#include <superdex/core/validate.h>
+#include <superdex/scene/stage_solver.h>
+
+#include <cstring>
+
+using namespace superdex;
+using namespace superdex::test;
+
+namespace {
+
+constexpr real kLargeDt = 0.05;
+constexpr int kLinks = 6;
+
+SceneParams Params(IntegratorType integrator, int maxSubsteps) {
+  SceneParams params;
+  params.integrator = integrator;
+  params.substeps.maxSubsteps = maxSubsteps;
+  return params;
+}
+
+/// Every rigid body's pose and velocities, and every constraint's target,
+/// old target and force (when its query is registered), as raw bytes.
+std::string Capture(Scene const& scene) {
+  std::string bytes;
+  auto append = [&](void const* data, std::size_t size) {
+    bytes.append(static_cast<char const*>(data), size);
+  };
+  scene.ForEachActor([&](Actor& actor) {
+    auto const& body = dynamic_cast<RigidActor const&>(actor);
+    for (Real3 const& v : {body.GetPosition(), body.GetLinearVelocity(), body.GetAngularVelocity()})
+      append(v.data(), sizeof(Real3));
+    append(body.GetRotation().coeffs().data(), 4 * sizeof(real));
+  });
+  scene.ForEachConstraint([&](Constraint& c) {
+    Span<real const> const target = internal::ConstraintTestAccess::Target(c);
+    Span<real const> const old = internal::ConstraintTestAccess::OldTarget(c);
+    append(target.data(), target.size() * sizeof(real));
+    append(old.data(), old.size() * sizeof(real));
+    Error error;
+    Span<real const> const force = c.GetForce(error);
+    append(force.data(), force.size() * sizeof(real));
+  });
+  return bytes;
+}
+
+Constraint* Pin(Scene& scene) {
+  Constraint* pin = nullptr;
+  scene.ForEachConstraint([&](Constraint& c) {
+    if (c.GetType() == ConstraintType::RigidPivotPosition) pin = &c;
+  });
+  REQUIRE(pin);
+  return pin;
+}
+
+void RegisterForces(Scene& scene) {
+  scene.ForEachConstraint([&](Constraint& c) {
+    Error error;
+    REQUIRE(c.RegisterQuery(QueryType::ConstraintForce, error));
+  });
+}
+
+bool Contains(std::string const& text, std::string const& part) {
+  return text.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST_CASE("a step that fails whole succeeds as sub-steps and reports them", "[scene][substep]") {
+  IntegratorType const integrator = GENERATE(IntegratorType::BackwardEuler, IntegratorType::Bdf2);
+  CAPTURE(ToString(integrator));
+  Error error;
+
+  // sub-stepping off (the default): the step fails and says so
+  Chain off = MakeChain(kLinks, Params(integrator, 1));
+  REQUIRE_FALSE(off.scene->Step(kLargeDt, error));
+  CAPTURE(error.ToString());
+  REQUIRE(error.GetCode() == ErrorCode::NewtonFailed);
+  REQUIRE_FALSE(Contains(error.GetMessage(), "sub-step"));
+  REQUIRE(off.scene->GetStats().substeps == 1);
+  int const failedWholeIterations = off.scene->GetStats().newtonIterations;
+  REQUIRE(failedWholeIterations > 0);
+
+  // on: the same step succeeds as 2 sub-steps
+  Chain on = MakeChain(kLinks, Params(integrator, 8));
+  REQUIRE(on.scene->Step(kLargeDt, error));
+  SceneStats const stats = on.scene->GetStats();
+  REQUIRE(stats.substeps == 2);
+  REQUIRE(stats.substeppedSteps == 1);
+  REQUIRE(stats.steps == 1);
+  REQUIRE(on.scene->GetTime() == kLargeDt);
+
+  // the last step's figures add up both attempts: the failed whole one and
+  // the two sub-steps (measured on a scene stepped by hand)
+  Chain manual = MakeChain(kLinks, Params(integrator, 1));
+  int manualIterations = 0;
+  for (int i = 0; i < 2; ++i) {
+    StepOk(*manual.scene, kLargeDt / 2);
+    manualIterations += manual.scene->GetStats().newtonIterations;
+  }
+  REQUIRE(stats.newtonIterations == failedWholeIterations + manualIterations);
+
+  // a step that needs no sub-stepping reports 1 and leaves the counter
+  Chain small = MakeChain(kLinks, Params(integrator, 8));
+  StepOk(*small.scene, 1e-3, 3);
+  REQUIRE(small.scene->GetStats().substeps == 1);
+  REQUIRE(small.scene->GetStats().substeppedSteps == 0);
+}
+
+TEST_CASE("a sub-stepped step equals the steps of dt/k taken by hand, bit for bit",
+          "[scene][substep]") {
+  // Tolerance 0: the sub-steps run the same stages on the same state as
+  // k calls of Step(dt/k) (dt/k is exact: k is a power of two), with the
+  // pin's target moved before the step and interpolated as a caller would
+  // (p̂⁰ + j/k (p̂ − p̂⁰) for sub-step j). Under BDF2 the scene has history at
+  // 1e-3 first, which neither the sub-steps nor the manual steps may use.
+  IntegratorType const integrator = GENERATE(IntegratorType::BackwardEuler, IntegratorType::Bdf2);
+  CAPTURE(ToString(integrator));
+  Chain sub = MakeChain(kLinks, Params(integrator, 8));
+  Chain manual = MakeChain(kLinks, Params(integrator, 1));
+  RegisterForces(*sub.scene);
+  RegisterForces(*manual.scene);
+  StepOk(*sub.scene, 1e-3, 3);
+  StepOk(*manual.scene, 1e-3, 3);
+  REQUIRE(Capture(*sub.scene) == Capture(*manual.scene));
+
+  // step 0 runs whole; before step 1 (which needs sub-steps) the pin's
+  // target moves
+  Real3 const from = Real3::Zero(), to(0.01, 0.02, -0.005);
+  Error error;
+  int substepped = 0;
+  for (int step = 0; step < 3; ++step) {
+    CAPTURE(step);
+    if (step == 1) REQUIRE(Pin(*sub.scene)->SetTargetPosition(to, error));
+    INFO(error.ToString());
+    REQUIRE(sub.scene->Step(kLargeDt, error));
+    int const k = sub.scene->GetStats().substeps;
+    CAPTURE(k);
+    if (step == 1) REQUIRE(k >= 4);
+    substepped += k > 1;
+    for (int j = 1; j <= k; ++j) {
+      // (the scene's formula, component by component: p̂⁰ᵢ + s (p̂ᵢ − p̂⁰ᵢ))
+      real const s = real(j) / k;
+      Real3 target = step == 0 ? from : to;
+      if (step == 1 && j < k)
+        for (int i = 0; i < 3; ++i) target[i] = from[i] + s * (to[i] - from[i]);
+      REQUIRE(Pin(*manual.scene)->SetTargetPosition(target, error));
+      StepOk(*manual.scene, kLargeDt / k);
+    }
+    REQUIRE(Capture(*sub.scene) == Capture(*manual.scene));
+  }
+  REQUIRE(sub.scene->GetStats().substeppedSteps == substepped);
+  // time advanced by dt per step, not by a sum of sub-steps
+  REQUIRE(sub.scene->GetTime() == 1e-3 + 1e-3 + 1e-3 + kLargeDt + kLargeDt + kLargeDt);
+  // the caller's target is the target at the end of the step, and the old one
+  Span<real const> const target = internal::ConstraintTestAccess::Target(*Pin(*sub.scene));
+  Span<real const> const old = internal::ConstraintTestAccess::OldTarget(*Pin(*sub.scene));
+  REQUIRE(Real3(target[0], target[1], target[2]) == to);
+  REQUIRE(Real3(old[0], old[1], old[2]) == to);
+}
+
+TEST_CASE("a step whose every attempt fails changes nothing", "[scene][substep][transaction]") {
+  // Capped at 2 sub-steps, the chain at dt = 0.05 goes on as 2 sub-steps per
+  // step until a step fails whole and as 2 sub-steps, the first of which
+  // succeeds (its stage committed velocities, history, old targets and
+  // forces) before the second fails: all of it must be undone. The pin's
+  // target, moved before the failing step, is interpolated in the attempt
+  // and must come back as set.
+  IntegratorType const integrator = GENERATE(IntegratorType::BackwardEuler, IntegratorType::Bdf2);
+  CAPTURE(ToString(integrator));
+  Chain failing = MakeChain(kLinks, Params(integrator, 2));
+  RegisterForces(*failing.scene);
+  Error error;
+  int succeeded = 0;
+  std::string before;
+  for (;; ++succeeded) {
+    REQUIRE(succeeded < 10);  // the chain speeds up: a step fails within a few
+    REQUIRE(Pin(*failing.scene)->SetTargetPosition(Real3(0, 1e-3 * (succeeded + 1), 0), error));
+    before = Capture(*failing.scene);
+    if (!failing.scene->Step(kLargeDt, error)) break;
+    REQUIRE(failing.scene->GetStats().substeps == 2);
+  }
+  CAPTURE(succeeded, error.ToString());
+  REQUIRE(succeeded >= 1);
+  REQUIRE(error.GetCode() == ErrorCode::NewtonFailed);
+  // the message names the last attempt and its failed sub-step: the first
+  // sub-step succeeded before the second failed
+  std::string const t = internal::Format(succeeded * kLargeDt);
+  REQUIRE(error.GetMessage().starts_with(
+      "Step(dt = " + internal::Format(kLargeDt) + ") at t = " + t +
+      " failed in sub-step 2 of 2 (dt/2 = " + internal::Format(kLargeDt / 2) + " from t = "));
+  REQUIRE(Contains(error.GetMessage(), "the last of the attempts as 1 and 2 sub-steps "
+                                       "(SceneParams.substeps.maxSubsteps = 2): stage 0, Newton "
+                                       "iteration 50: Newton did not converge"));
+  REQUIRE(error.GetMessage().ends_with("; the scene is unchanged"));
+  REQUIRE(failing.scene->GetStats().substeps == 2);
+
+  // bit-identical, and the scene goes on exactly as one that never tried
+  REQUIRE(Capture(*failing.scene) == before);
+  REQUIRE(failing.scene->GetTime() == succeeded * kLargeDt);
+  REQUIRE(failing.scene->GetStats().steps == succeeded);
+  REQUIRE(failing.scene->GetStats().substeppedSteps == succeeded);
+  Chain reference = MakeChain(kLinks, Params(integrator, 2));
+  RegisterForces(*reference.scene);
+  for (int i = 0; i <= succeeded; ++i) {
+    REQUIRE(Pin(*reference.scene)->SetTargetPosition(Real3(0, 1e-3 * (i + 1), 0), error));
+    if (i < succeeded) StepOk(*reference.scene, kLargeDt);
+  }
+  REQUIRE(Capture(*reference.scene) == before);
+  for (Chain* chain : {&failing, &reference}) {
+    REQUIRE(chain->scene->SetSubstepParams({.maxSubsteps = 16}, error));
+    StepOk(*chain->scene, kLargeDt);
+    REQUIRE(chain->scene->GetStats().substeps > 2);
+  }
+  REQUIRE(Capture(*failing.scene) == Capture(*reference.scene));
+}
+
+TEST_CASE("BDF2 history restarts at each change of step size, within and after a sub-stepped step",
+          "[scene][substep][bdf2]") {
+  // A free body beside the chain: under constant gravity both integrators
+  // give its velocity exactly v⁰ + g t when the history they use spans the
+  // step they take; a history over another step size would not (after a
+  // step of h/2, BDF2's fixed coefficients give v + (5/6) g h). The first
+  // step at dt = 0.02 fails whole (a linear-solver fault at Newton
+  // iteration 5, which the whole step reaches and its halves do not), the
+  // next two run whole after it.
+  SceneParams params = Params(IntegratorType::Bdf2, 4);
+  Chain chain = MakeChain(4, params);
+  Scene& scene = *chain.scene;
+  Chain manual = MakeChain(4, Params(IntegratorType::Bdf2, 1));
+  RigidActorParams freeParams;
+  freeParams.position = Real3(0, 5, 0);
+  freeParams.linearVelocity = Real3(1, 2, 0);
+  RigidActor* body = MakeRigid(scene, freeParams);
+  MakeRigid(*manual.scene, freeParams);
+  Real3 const v0 = freeParams.linearVelocity, g = params.gravity;
+  real const dt = 0.02;
+
+  internal::SetFaultInjectionForTesting(scene, {.failLinearSolveAtIteration = 5});
+  StepOk(scene, dt);
+  internal::SetFaultInjectionForTesting(scene, {});
+  REQUIRE(scene.GetStats().substeps == 2);
+  // (the exact velocity to round-off: Newton ends with a step of ~1e-16)
+  REQUIRE((body->GetLinearVelocity() - (v0 + dt * g)).norm() <= 1e-12);
+  StepOk(scene, dt, 2);
+  REQUIRE(scene.GetStats().substeps == 1);
+  REQUIRE((body->GetLinearVelocity() - (v0 + 3 * dt * g)).norm() <= 1e-12);
+
+  // and all of it is what the steps dt/2, dt/2, dt, dt would do
+  StepOk(*manual.scene, dt / 2, 2);
+  StepOk(*manual.scene, dt, 2);
+  REQUIRE(Capture(scene) == Capture(*manual.scene));
+}
+
+TEST_CASE("sub-stepping params are validated", "[scene][substep][errors]") {
+  Error error;
+  for (int bad : {0, -1, -4, 3, 6, 12, 1000}) {
+    CAPTURE(bad);
+    SceneParams params;
+    params.substeps.maxSubsteps = bad;
+    REQUIRE_FALSE(Scene::Create(params, error));
+    REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
+    std::string const expected =
+        "SceneParams.substeps.maxSubsteps must be a power of two >= 1 (1 turns sub-stepping off), "
+        "got " + std::to_string(bad);
+    REQUIRE(error.GetMessage() == expected);
+  }
+  for (int good : {1, 2, 4, 1024, 1 << 30}) {
+    CAPTURE(good);
+    SceneParams params;
+    params.substeps.maxSubsteps = good;
+    REQUIRE(MakeScene(params)->GetParams().substeps.maxSubsteps == good);
+  }
+  REQUIRE(SceneParams{}.substeps.maxSubsteps == 1);  // off by default
+
+  auto scene = MakeScene();
+  REQUIRE_FALSE(scene->SetSubstepParams({.maxSubsteps = 5}, error));
+  REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
+  REQUIRE(Contains(error.GetMessage(), "SubstepParams.maxSubsteps must be a power of two"));
+  REQUIRE(Contains(error.GetMessage(), "got 5"));
+  REQUIRE(scene->GetParams().substeps.maxSubsteps == 1);
+  REQUIRE(scene->SetSubstepParams({.maxSubsteps = 4}, error));
+  REQUIRE(scene->GetParams().substeps.maxSubsteps == 4);
+}
