@@ -13,8 +13,8 @@ EXPECTED = {
                  "create_rod_element_rotation_to_rigid_constraint create_articulated_single_dof_target_constraint "
                  "create_articulated_single_dof_range_constraint create_articulated_3d_rotation_target_constraint "
                  "create_articulated_3d_rotation_range_constraint get_constraint for_each_constraint "
-                 "destroy_constraint get_num_constraints step set_linear_solver get_time get_params get_stats "
-                 "get_num_dofs register_query",
+                 "destroy_constraint get_num_constraints step set_substep_params set_linear_solver get_time "
+                 "get_params get_stats get_num_dofs register_query",
     mochi.Constraint: "get_handle get_type get_num_actors get_actor get_dof_indices_for_actor get_dimension "
                       "get_num_dofs is_range get_stiffness get_damping get_saturation set_stiffness set_damping "
                       "set_saturation set_target_position set_target_rotation set_target_transform "
@@ -63,7 +63,8 @@ MODULE = ("Error ErrorCode ActorHandle ConstraintHandle hat exp exp_matrix log l
           "IntegratorType LinearSolverType PcgPreconditioner PcgParams validate_pcg_params "
           "available_pcg_preconditioners available_linear_solvers resolve_linear_solver_type "
           "DENSE_SOLVER_MAX_SIZE LinearSolveStatus LinearSolveResult SparseSymmetricMatrix create_linear_solver "
-          "OrderingMethod HessianProjection NewtonParams SceneParams SceneStats ActorType JointType joint_dofs "
+          "OrderingMethod HessianProjection NewtonParams SubstepParams SceneParams SceneStats ActorType JointType "
+          "joint_dofs "
           "TetMaterialModel RigidActorParams DeformableActorParams RodActorParams ArticulatedLinkParams "
           "ArticulatedActorParams RodStiffness TetMesh TriangleMesh make_tet_box make_triangle_grid make_hinges "
           "read_tet_gen read_gmsh_tets read_gmsh_triangles read_obj validate_tet_mesh validate_triangle_mesh "

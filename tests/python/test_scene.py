@@ -73,6 +73,54 @@ def test_a_chain_built_from_python_obeys_momentum_balance_and_dissipates():
     assert scene.get_stats().steps == 100 and scene.get_stats().pattern_builds == 1
 
 
+def test_a_failed_step_retries_itself_as_substeps_when_asked():
+    # six 1 kg bodies on stiff spherical joints (1e6 N/m), pinned at the left
+    # end, released horizontally at dt = 0.05: Newton (50 iterations) fails
+    # the step whole, and succeeds as two sub-steps of 0.025
+    def chain(**params):
+        scene = mochi.Scene.create(**params)
+        bodies = [scene.create_rigid_actor(mass=1, inertia=[1e-4, 1e-3, 1e-3], position=[(i + 0.5) * 0.1, 0, 0])
+                  for i in range(6)]
+        scene.create_rigid_pivot_position_constraint(actor=bodies[0], local_pos=[-0.05, 0, 0], stiffness=1e6)
+        for a, b in zip(bodies, bodies[1:]):
+            scene.create_rigid_spherical_joint_constraint(actor_a=a, actor_b=b, local_pos_a=[0.05, 0, 0],
+                                                          local_pos_b=[-0.05, 0, 0], stiffness=1e6)
+        return scene, bodies
+
+    off, off_bodies = chain()  # the default: off
+    assert off.get_params().substeps.max_substeps == 1
+    with pytest.raises(mochi.Error) as info:
+        off.step(0.05)
+    assert info.value.code == mochi.ErrorCode.NewtonFailed and "sub-step" not in info.value.message
+    assert off.get_time() == 0 and off_bodies[5].get_position().tolist() == [0.55, 0, 0]
+
+    params = mochi.SceneParams()
+    params.substeps.max_substeps = 8  # nested params by reference
+    on, on_bodies = chain(params=params)
+    on.step(0.05)
+    stats = on.get_stats()
+    assert stats.substeps == 2 and stats.substepped_steps == 1 and stats.steps == 1
+    assert on.get_time() == 0.05
+
+    # the same as two steps of 0.025 taken by hand, bit for bit
+    manual, manual_bodies = chain()
+    manual.step(0.025)
+    manual.step(0.025)
+    for a, b in zip(on_bodies, manual_bodies):
+        assert a.get_position().tolist() == b.get_position().tolist()
+        assert a.get_linear_velocity().tolist() == b.get_linear_velocity().tolist()
+
+    # capped at 1 again, between steps; a cap that is not a power of two is refused
+    on.set_substep_params(max_substeps=1)
+    assert on.get_params().substeps.max_substeps == 1
+    with pytest.raises(mochi.Error) as info:
+        on.set_substep_params(mochi.SubstepParams(max_substeps=3))
+    assert info.value.code == mochi.ErrorCode.InvalidArgument
+    assert "SubstepParams.maxSubsteps must be a power of two >= 1" in info.value.message
+    with pytest.raises(mochi.Error, match="SceneParams.substeps.maxSubsteps .* got 0"):
+        mochi.Scene.create(substeps=mochi.SubstepParams(max_substeps=0))
+
+
 def test_deformable_block_hanging_from_pins():
     # a 0.1 m soft cube (1 kg) hanging from its four top corners
     mesh = mochi.make_tet_box(origin=[0, 0, 0], size=[0.1, 0.1, 0.1], cells=[2, 2, 2])

@@ -73,8 +73,9 @@ void DefineScene(py::module_& m) {
          },
          py::arg("params") = py::none(),
          "Creates a scene from `params` (SceneParams, default when None) with the keyword "
-         "arguments applied on top. Validates finite gravity, positive Newton settings and a "
-         "compiled-in linear solver; raises mochi.Error naming the field.")
+         "arguments applied on top. Validates finite gravity, positive Newton settings, a "
+         "compiled-in linear solver and max_substeps a power of two; raises mochi.Error naming the "
+         "field.")
       .def("destroy", &SceneOwner::Destroy,
            "Destroys the C++ scene with its actors and constraints now. Their Python objects "
            "then raise mochi.Error (InvalidState); so do this scene's methods. Idempotent.")
@@ -245,7 +246,20 @@ void DefineScene(py::module_& m) {
          py::arg("dt"),
          "Advances by dt [s] (finite, > 0). Transactional: on failure the scene is restored "
          "exactly and mochi.Error names the stage, the Newton iteration and the cause; retry "
-         "with a smaller dt.")
+         "with a smaller dt. With SceneParams.substeps.max_substeps > 1 a failed step first "
+         "retries itself from the exact pre-step state as 2, 4, ... sub-steps "
+         "(SceneStats.substeps says how many the last step used).")
+      .def(
+          "set_substep_params",
+          [](SceneOwner const& self, py::object const& params, py::kwargs const& kwargs) {
+            SubstepParams const p = ParamsArgument<SubstepParams>(params, kwargs);
+            Checked([&](Error& e) { self.Get().SetSubstepParams(p, e); });
+          },
+          py::arg("params") = py::none(),
+          "Sets the sub-stepping policy between steps from `params` (SubstepParams, default "
+          "when None: off) with the keyword arguments applied on top, e.g. "
+          "scene.set_substep_params(max_substeps=8). max_substeps must be a power of two >= 1; "
+          "on failure nothing changes.")
       .def(
           "set_linear_solver",
           [](SceneOwner const& self, LinearSolverType type, std::optional<PcgParams> const& pcg) {

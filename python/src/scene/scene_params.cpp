@@ -1,4 +1,4 @@
-// scene/scene_params.h: SceneParams (with NewtonParams), HessianProjection
+// scene/scene_params.h: SceneParams (with NewtonParams and SubstepParams), HessianProjection
 // and the SceneStats a scene reports.
 #include "defines.h"
 #include "support/params_class.h"
@@ -29,13 +29,27 @@ void DefineSceneParams(py::module_& m) {
              "ConstraintHessian of every constraint that does not choose its own, default "
              "GeometricStiffness (SceneDefault is refused here)");
 
+  ParamsClass<SubstepParams>(
+      m, "SubstepParams",
+      "Automatic sub-stepping, a policy for failed steps (off by default): with max_substeps "
+      "> 1, a step of dt that fails is retried from the exact pre-step state as 2 sub-steps of "
+      "dt/2, then 4 of dt/4, ..., up to max_substeps; if the last attempt fails, the scene is "
+      "restored and the step raises that attempt's mochi.Error. The sub-steps equal steps of "
+      "dt/k taken by hand (BDF2 history restarted where the step size changes; kinematic targets "
+      "interpolated from the old target to the new one). docs/architecture.md, 'Sub-stepping'.")
+      .Field("max_substeps", &SubstepParams::maxSubsteps,
+             "the most sub-steps a step may be split into: a power of two >= 1; 1 (default) "
+             "turns sub-stepping off");
+
   using S = SceneParams;
   ParamsClass<S>(m, "SceneParams",
-                 "Scene parameters, validated by Scene.create. Nested structs (newton, pcg) "
+                 "Scene parameters, validated by Scene.create. Nested structs (newton, substeps, pcg) "
                  "read by reference: params.newton.max_iterations = 20 changes params.")
       .Field("gravity", &S::gravity, "[m/s²], default (0, -9.81, 0): y is up")
       .Field("integrator", &S::integrator, "IntegratorType, default BackwardEuler")
       .Field("newton", &S::newton, "NewtonParams")
+      .Field("substeps", &S::substeps,
+             "SubstepParams: retry of a failed step as sub-steps (off by default)")
       .Field("linear_solver", &S::linearSolver, "LinearSolverType, default Auto")
       .Field("pcg", &S::pcg, "PcgParams, used when linear_solver is PetscPcg")
       .Field("ordering", &S::ordering, "OrderingMethod, default Metis");
@@ -51,6 +65,11 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("symbolic_analyses", &T::symbolicAnalyses, "linear-solver symbolic analyses")
       .def_readonly("linear_solver_object_builds", &T::linearSolverObjectBuilds,
                     "PETSc Mat + KSP creations; 0 for CHOLMOD and dense")
+      .def_readonly("substepped_steps", &T::substeppedSteps,
+                    "successful steps that needed sub-stepping (SubstepParams)")
+      .def_readonly("substeps", &T::substeps,
+                    "last step: sub-steps of its last attempt (1: taken whole; 0 before the "
+                    "first step); the figures below add up every attempt, failed ones included")
       .def_readonly("newton_iterations", &T::newtonIterations, "last step")
       .def_readonly("linear_iterations", &T::linearIterations, "last step; iterative solvers only")
       .def_readonly("projection_fallbacks", &T::projectionFallbacks,
@@ -76,6 +95,7 @@ void DefineSceneParams(py::module_& m) {
         return "SceneStats(steps=" + std::to_string(s.steps) +
                ", pattern_builds=" + std::to_string(s.patternBuilds) +
                ", symbolic_analyses=" + std::to_string(s.symbolicAnalyses) +
+               ", substeps=" + std::to_string(s.substeps) +
                ", newton_iterations=" + std::to_string(s.newtonIterations) +
                ", linear_iterations=" + std::to_string(s.linearIterations) +
                ", num_dofs=" + std::to_string(s.numDofs) + ", linear_solver='" + s.linearSolver +

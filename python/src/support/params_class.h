@@ -34,6 +34,8 @@ template <>
 struct IsNestedParams<NewtonParams> : std::true_type {};
 template <>
 struct IsNestedParams<PcgParams> : std::true_type {};
+template <>
+struct IsNestedParams<SubstepParams> : std::true_type {};
 
 /// How a field of type F is read (Get) and assigned (Load).
 template <class F, class Enable = void>
