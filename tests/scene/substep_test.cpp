@@ -75,6 +75,51 @@ bool Contains(std::string const& text, std::string const& part) {
   return text.find(part) != std::string::npos;
 }
 
+/// A body beside the chain on soft, damped kinematic drives (so that the
+/// path of their targets shows in its motion): a RigidPivotToRigidTarget
+/// (transform target) and a RigidPivotRotation (rotation target).
+struct DrivenBody {
+  Constraint* transform = nullptr;
+  Constraint* rotation = nullptr;
+};
+
+DrivenBody AddDrivenBody(Scene& scene) {
+  RigidActorParams params;
+  params.position = Real3(0, 1, 0);
+  RigidActor* body = MakeRigid(scene, params);
+  Error error;
+  DrivenBody driven;
+  RigidPivotToRigidTargetConstraintParams transform;
+  transform.actor = body->GetHandle();
+  transform.localPos = Real3(0.1, 0, 0);
+  transform.position = Real3(0.1, 1, 0);
+  transform.stiffness = 1e4;
+  transform.damping = 50;
+  driven.transform = scene.CreateRigidPivotToRigidTargetConstraint(transform, error);
+  RigidPivotRotationConstraintParams rotation;
+  rotation.actor = body->GetHandle();
+  rotation.stiffness = 1e3;
+  rotation.damping = 5;
+  driven.rotation = scene.CreateRigidPivotRotationConstraint(rotation, error);
+  REQUIRE(driven.transform);
+  REQUIRE(driven.rotation);
+  return driven;
+}
+
+using TargetArray = std::array<real, 7>;
+
+TargetArray StoredTarget(Constraint const& c, bool old) {
+  Span<real const> const t = old ? internal::ConstraintTestAccess::OldTarget(c)
+                                 : internal::ConstraintTestAccess::Target(c);
+  TargetArray out{};
+  std::copy(t.begin(), t.begin() + 7, out.begin());
+  return out;
+}
+
+Quat StoredRotation(TargetArray const& t, int first) {
+  return Quat(t[first], t[first + 1], t[first + 2], t[first + 3]);
+}
+
 }  // namespace
 
 TEST_CASE("a step that fails whole succeeds as sub-steps and reports them", "[scene][substep]") {
@@ -122,27 +167,44 @@ TEST_CASE("a sub-stepped step equals the steps of dt/k taken by hand, bit for bi
           "[scene][substep]") {
   // Tolerance 0: the sub-steps run the same stages on the same state as
   // k calls of Step(dt/k) (dt/k is exact: k is a power of two), with the
-  // pin's target moved before the step and interpolated as a caller would
-  // (p̂⁰ + j/k (p̂ − p̂⁰) for sub-step j). Under BDF2 the scene has history at
-  // 1e-3 first, which neither the sub-steps nor the manual steps may use.
+  // targets moved before the step and interpolated as a caller would for
+  // sub-step j: p̂⁰ + j/k (p̂ − p̂⁰) for positions, the slerp at j/k for
+  // rotations, both for a transform (from the stored old and new targets,
+  // the same arithmetic). Under BDF2 the scene has history at 1e-3 first,
+  // which neither the sub-steps nor the manual steps may use.
   IntegratorType const integrator = GENERATE(IntegratorType::BackwardEuler, IntegratorType::Bdf2);
   CAPTURE(ToString(integrator));
   Chain sub = MakeChain(kLinks, Params(integrator, 8));
   Chain manual = MakeChain(kLinks, Params(integrator, 1));
+  DrivenBody const subDriven = AddDrivenBody(*sub.scene);
+  DrivenBody const manualDriven = AddDrivenBody(*manual.scene);
   RegisterForces(*sub.scene);
   RegisterForces(*manual.scene);
   StepOk(*sub.scene, 1e-3, 3);
   StepOk(*manual.scene, 1e-3, 3);
   REQUIRE(Capture(*sub.scene) == Capture(*manual.scene));
 
-  // step 0 runs whole; before step 1 (which needs sub-steps) the pin's
-  // target moves
+  // step 0 runs whole; before step 1 (which needs sub-steps) the targets move
   Real3 const from = Real3::Zero(), to(0.01, 0.02, -0.005);
+  Real3 const transformTo(0.15, 1.02, 0);
+  Quat const transformRotationTo(Eigen::AngleAxis<real>(0.5, Real3::UnitZ()));
+  Quat const rotationTo(Eigen::AngleAxis<real>(0.3, Real3::UnitX()));
   Error error;
   int substepped = 0;
   for (int step = 0; step < 3; ++step) {
     CAPTURE(step);
-    if (step == 1) REQUIRE(Pin(*sub.scene)->SetTargetPosition(to, error));
+    TargetArray transformFrom{}, transformTarget{}, rotationFrom{}, rotationTarget{};
+    if (step == 1) {
+      REQUIRE(Pin(*sub.scene)->SetTargetPosition(to, error));
+      REQUIRE(subDriven.transform->SetTargetTransform(transformTo, transformRotationTo, error));
+      REQUIRE(subDriven.rotation->SetTargetRotation(rotationTo, error));
+      transformFrom = StoredTarget(*subDriven.transform, true);
+      transformTarget = StoredTarget(*subDriven.transform, false);
+      rotationFrom = StoredTarget(*subDriven.rotation, true);
+      rotationTarget = StoredTarget(*subDriven.rotation, false);
+      REQUIRE(transformFrom != transformTarget);
+      REQUIRE(rotationFrom != rotationTarget);
+    }
     INFO(error.ToString());
     REQUIRE(sub.scene->Step(kLargeDt, error));
     int const k = sub.scene->GetStats().substeps;
@@ -150,12 +212,30 @@ TEST_CASE("a sub-stepped step equals the steps of dt/k taken by hand, bit for bi
     if (step == 1) REQUIRE(k >= 4);
     substepped += k > 1;
     for (int j = 1; j <= k; ++j) {
-      // (the scene's formula, component by component: p̂⁰ᵢ + s (p̂ᵢ − p̂⁰ᵢ))
-      real const s = real(j) / k;
-      Real3 target = step == 0 ? from : to;
-      if (step == 1 && j < k)
-        for (int i = 0; i < 3; ++i) target[i] = from[i] + s * (to[i] - from[i]);
-      REQUIRE(Pin(*manual.scene)->SetTargetPosition(target, error));
+      if (step == 1) {
+        if (j < k) {
+          // (the scene's formula, component by component: p̂⁰ᵢ + s (p̂ᵢ − p̂⁰ᵢ))
+          real const s = real(j) / k;
+          Real3 target, transformPosition;
+          for (int i = 0; i < 3; ++i) {
+            target[i] = from[i] + s * (to[i] - from[i]);
+            transformPosition[i] = transformFrom[i] + s * (transformTarget[i] - transformFrom[i]);
+          }
+          Quat const transformRotation =
+              StoredRotation(transformFrom, 3).slerp(s, StoredRotation(transformTarget, 3));
+          Quat const rotation =
+              StoredRotation(rotationFrom, 0).slerp(s, StoredRotation(rotationTarget, 0));
+          REQUIRE(Pin(*manual.scene)->SetTargetPosition(target, error));
+          REQUIRE(
+              manualDriven.transform->SetTargetTransform(transformPosition, transformRotation, error));
+          REQUIRE(manualDriven.rotation->SetTargetRotation(rotation, error));
+        } else {
+          REQUIRE(Pin(*manual.scene)->SetTargetPosition(to, error));
+          REQUIRE(
+              manualDriven.transform->SetTargetTransform(transformTo, transformRotationTo, error));
+          REQUIRE(manualDriven.rotation->SetTargetRotation(rotationTo, error));
+        }
+      }
       StepOk(*manual.scene, kLargeDt / k);
     }
     REQUIRE(Capture(*sub.scene) == Capture(*manual.scene));
