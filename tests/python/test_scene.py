@@ -75,10 +75,15 @@ def test_a_chain_built_from_python_obeys_momentum_balance_and_dissipates():
 
 def test_a_failed_step_retries_itself_as_substeps_when_asked():
     # six 1 kg bodies on stiff spherical joints (1e6 N/m), pinned at the left
-    # end, released horizontally at dt = 0.05: Newton (50 iterations) fails
-    # the step whole, and succeeds as two sub-steps of 0.025
-    def chain(**params):
-        scene = mochi.Scene.create(**params)
+    # end, released horizontally at dt = 0.05, with the reference page's
+    # Gauss-Newton constraint Hessian and Newton capped at 30 iterations: the
+    # step fails whole (it would need 38), and succeeds as two sub-steps of
+    # 0.025 (6 and 13)
+    def chain(params=None):
+        params = params or mochi.SceneParams()
+        params.newton.constraint_hessian = mochi.ConstraintHessian.GaussNewton
+        params.newton.max_iterations = 30
+        scene = mochi.Scene.create(params)
         bodies = [scene.create_rigid_actor(mass=1, inertia=[1e-4, 1e-3, 1e-3], position=[(i + 0.5) * 0.1, 0, 0])
                   for i in range(6)]
         scene.create_rigid_pivot_position_constraint(actor=bodies[0], local_pos=[-0.05, 0, 0], stiffness=1e6)
