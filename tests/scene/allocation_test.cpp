@@ -51,6 +51,23 @@ TEST_CASE("steps after the first allocate nothing", "[scene][allocation]") {
   RequireStepsAllocateNothing(*chain.scene, 1e-3, 20);
 }
 
+TEST_CASE("every constraint Hessian allocates nothing, the clamped geometric stiffness included",
+          "[scene][allocation][geometric-stiffness]") {
+  // HessianProjection::Always sends every iteration through the projected
+  // path: the geometric stiffness block clamped by its fixed-capacity
+  // eigensolver, the rigid bodies' Gauss–Newton rotational inertia
+  ConstraintHessian const hessian = GENERATE(ConstraintHessian::GaussNewton, ConstraintHessian::GeometricStiffness,
+                                             ConstraintHessian::GeometricStiffnessDiagonal);
+  HessianProjection const projection = GENERATE(HessianProjection::WhenIndefinite, HessianProjection::Always);
+  CAPTURE(ToString(hessian), ToString(projection));
+  SceneParams params;
+  params.newton.constraintHessian = hessian;
+  params.newton.hessianProjection = projection;
+  Chain chain = MakeChain(12, params);
+  StepOk(*chain.scene, 1e-3, 2);
+  RequireStepsAllocateNothing(*chain.scene, 1e-3, 20);
+}
+
 TEST_CASE("steps with sub-stepping enabled allocate nothing while it is not needed",
           "[scene][allocation][substep]") {
   // the policy costs nothing on steps that succeed whole (a retry's buffers
