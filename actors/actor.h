@@ -93,6 +93,19 @@ class Actor {
   /// radius. The default writes 1.
   virtual void WriteDofLengthScales(Span<real> scales) const;
 
+  /// Writes this actor's entries [offset, offset + n) of a diagonal estimate
+  /// of its inverse mass, 1/M_jj with M the actor's mass matrix (the Hessian
+  /// of its kinetic energy in its DoF increments) at the current
+  /// configuration [1/kg or 1/(kg·m²)]: a rigid body 1/m for its
+  /// translations and 1/(R I_b Rᵀ)_jj for its world-frame rotations; a
+  /// deformable or rod node 1/mᵢ for its displacement (and a rod node
+  /// 1/(twist inertia) for its twist); an articulated actor 1/M(q)_jj, the
+  /// diagonal of its joint-space mass matrix (armature included). Exact
+  /// where M is diagonal; elsewhere the Jacobi estimate (at most diag(M⁻¹)).
+  /// The stage solver calls it once per stage, at the committed
+  /// configuration, for the near-rigid cap (NewtonParams::nearRigidBeta).
+  virtual void WriteDofInverseMasses(Span<real> inverseMasses) const = 0;
+
   /// Prepares a stage from the committed state: start configuration,
   /// inertial target and weight (from the integrator coefficients). An actor
   /// without history yet (its first step) uses backward Euler's coefficients.

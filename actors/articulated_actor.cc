@@ -423,6 +423,26 @@ void ArticulatedActor::WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const {
   block.block<3, 3>(3, 3) = post.transpose();
 }
 
+void ArticulatedActor::WriteDofInverseMasses(Span<real> inverseMasses) const {
+  // the diagonal of the CRBA mass matrix, M_jj = s_jᵀ I_c(k) s_j + armature
+  // for DoF j of link k (I_c(k) the composite inertia of k's subtree), in the
+  // kinematics and composite scratch: no allocation
+  ComputeKinematics(state_.joints, kinematics_);
+  int const numLinks = GetNumLinks();
+  for (int i = 0; i < numLinks; ++i) {
+    Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
+    composite_[i] = SpatialStiffness(r * links_[i].inertia.asDiagonal() * r.transpose(), links_[i].mass,
+                                     kinematics_.com[i]);
+  }
+  for (int i = numLinks - 1; i > 0; --i)
+    if (links_[i].parent >= 0) composite_[links_[i].parent] += composite_[i];
+  for (int k = 0; k < numLinks; ++k)
+    for (int j = links_[k].dofStart; j < links_[k].dofStart + links_[k].numDofs; ++j) {
+      auto const s = kinematics_.motion.col(j);
+      inverseMasses[dofOffset_ + j] = 1 / (s.dot(composite_[k] * s) + links_[k].armature);
+    }
+}
+
 void ArticulatedActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
   // one dense block over all the actor's DoFs
   DynamicArray<int> dofs(numDofs_);

@@ -210,6 +210,12 @@ void DeformableActor::WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const {
   }
 }
 
+void DeformableActor::WriteDofInverseMasses(Span<real> inverseMasses) const {
+  // lumped: M = mᵢ I₃ per node, in the actor frame as in the world
+  for (int i = 0; i < GetNumNodes(); ++i)
+    for (int c = 0; c < 3; ++c) inverseMasses[dofOffset_ + 3 * i + c] = 1 / mass_[i];
+}
+
 void DeformableActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
   // order: node inertia blocks, tetrahedra, triangles, hinges (AddGradientAndHessian follows it)
   auto dofsOf = [this](auto const& nodes) {

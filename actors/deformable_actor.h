@@ -90,6 +90,7 @@ class DeformableActor final : public NodalActor {
 
   void AppendDofBlockSizes(DynamicArray<int>& sizes) const override;
   void WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const override;
+  void WriteDofInverseMasses(Span<real> inverseMasses) const override;
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
   /// Newton's first iterate is the inertial target û = u + c Δₚ + β h v (the
   /// free-flight prediction), not the stage start: measured on the clamped

@@ -85,6 +85,17 @@ void RigidActor::WriteDofLengthScales(Span<real> scales) const {
   }
 }
 
+void RigidActor::WriteDofInverseMasses(Span<real> inverseMasses) const {
+  // M = diag(m, m, m, R I_b Rᵀ) in (t, δθ): the world-frame inertia's diagonal
+  // (R I_b Rᵀ)_jj = Σₖ R_jk² I_k
+  Real33 const r = state_.rotation.toRotationMatrix();
+  Real3 const worldDiagonal = r.cwiseAbs2() * inertia_;
+  for (int i = 0; i < 3; ++i) {
+    inverseMasses[dofOffset_ + i] = 1 / mass_;
+    inverseMasses[dofOffset_ + 3 + i] = 1 / worldDiagonal[i];
+  }
+}
+
 void RigidActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
   DynamicArray<int> dofs(kNumDofs);
   for (int i = 0; i < kNumDofs; ++i) dofs[i] = dofOffset_ + i;

@@ -67,6 +67,7 @@ class RigidActor final : public Actor {
   void AppendDofBlockSizes(DynamicArray<int>& sizes) const override;
   void WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const override;
   void WriteDofLengthScales(Span<real> scales) const override;
+  void WriteDofInverseMasses(Span<real> inverseMasses) const override;
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
   real Energy() const override;

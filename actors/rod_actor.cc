@@ -250,6 +250,14 @@ void RodActor::WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const {
   }
 }
 
+void RodActor::WriteDofInverseMasses(Span<real> inverseMasses) const {
+  // lumped: mᵢ for the node's displacement, the twist inertia for its twist
+  for (int i = 0; i < GetNumNodes(); ++i) {
+    for (int c = 0; c < 3; ++c) inverseMasses[dofOffset_ + 4 * i + c] = 1 / mass_[i];
+    inverseMasses[dofOffset_ + 4 * i + 3] = 1 / twistInertia_[i];
+  }
+}
+
 void RodActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
   // order: node inertia blocks (4 DoFs), element stretching (the two nodes'
   // positions), interior-node stencils [xᵢ₋₁, θᵢ₋₁, xᵢ, θᵢ, xᵢ₊₁] (11

@@ -18,6 +18,23 @@ real CompliantKappa(CompliantParams const& p, real x) {
   return k * s / x;
 }
 
+CompliantParams NearRigidParams(CompliantParams const& p, real h, real beta, real w, bool& capped) {
+  capped = false;
+  if (!(beta > 0) || !(w > 0)) return p;
+  constexpr real kTwoPi = 6.283185307179586476925286766559;
+  real const maxScale = kTwoPi * kTwoPi / (beta * beta * h * h * w);
+  real const scale = p.stiffness + p.damping / h;
+  if (!(scale > maxScale)) return p;
+  capped = true;
+  real const c = maxScale / scale;
+  CompliantParams result = p;
+  // d = 0: k_eff is s_max itself, not s_max/k·k rounded
+  result.stiffness = p.damping == 0 ? maxScale : c * p.stiffness;
+  result.damping = c * p.damping;
+  if (p.IsSaturated()) result.saturation = p.saturation / c;
+  return result;
+}
+
 bool IsRangeInactive(Eigen::Ref<VectorX const> const& g, Eigen::Ref<VectorX const> const& gStart) {
   return (g.array() == 0).all() && (gStart.array() == 0).all();
 }

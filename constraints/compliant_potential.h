@@ -30,6 +30,25 @@ real CompliantElasticEnergy(CompliantParams const& p, real x);
 /// κ(x) at x = ‖g‖ (regular at x = 0).
 real CompliantKappa(CompliantParams const& p, real x);
 
+/// The near-rigid cap (NewtonParams::nearRigidBeta; after the near-rigid
+/// regime of Drake's SAP, Castro et al. 2022, "An Unconstrained Convex
+/// Formulation of Compliant Contact", §V). A constraint whose Gauss–Newton
+/// scale s = k + d/h exceeds
+///
+///   s_max = 4π² / (β² h² w)
+///
+/// (w the constraint's inverse effective mass, an estimate of the largest
+/// diagonal entry of the Delassus operator J M⁻¹ Jᵀ) would oscillate with a
+/// period below β h, which the stage cannot resolve and which makes the
+/// Newton Hessian ill-conditioned. Its stiffness and damping are scaled by
+/// c = s_max / s, which keeps the ratio d/k (SAP keeps the relaxation time τ
+/// and clamps the regularization R = 1/(h²(k + d/h)) from below by
+/// β² w/(4π²): the same thing); a saturated constraint's ḡ becomes ḡ/c, which
+/// keeps its force cap k ḡ. With d = 0 this is k_eff = min(k, 4π²/(β² h² w)).
+/// Returns `p` itself when β <= 0, w <= 0 or s <= s_max; `capped` says
+/// whether the cap applied.
+CompliantParams NearRigidParams(CompliantParams const& p, real h, real beta, real w, bool& capped);
+
 /// A range constraint is inactive, and contributes nothing, when every
 /// component of g is zero both now and at the stage start.
 bool IsRangeInactive(Eigen::Ref<VectorX const> const& g, Eigen::Ref<VectorX const> const& gStart);

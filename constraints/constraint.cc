@@ -1,5 +1,6 @@
 #include <superdex/constraints/constraint.h>
 
+#include <algorithm>
 #include <limits>
 
 #include <superdex/actors/actor.h>
@@ -83,6 +84,7 @@ Constraint::Constraint(Layout layout, internal::CompliantParams const& params)
       actors_(layout.actors),
       localDofs_(std::move(layout.localDofs)),
       params_(params),
+      stageParams_(params),
       stageStartValue_(VectorX::Zero(layout.dimension)) {
   RefreshDofs();
   force_.assign(dofs_.size(), 0);
@@ -105,18 +107,24 @@ void Constraint::RefreshDofs() {
 bool Constraint::SetStiffness(real stiffness, Error& error) {
   if (!internal::CheckNonNegative(stiffness, "stiffness", error)) return false;
   params_.stiffness = stiffness;
+  stageParams_ = params_;
+  nearRigidCapped_ = false;
   return true;
 }
 
 bool Constraint::SetDamping(real damping, Error& error) {
   if (!internal::CheckNonNegative(damping, "damping", error)) return false;
   params_.damping = damping;
+  stageParams_ = params_;
+  nearRigidCapped_ = false;
   return true;
 }
 
 bool Constraint::SetSaturation(real saturation, Error& error) {
   if (!internal::CheckFinite(saturation, "saturation", error)) return false;
   params_.saturation = saturation;
+  stageParams_ = params_;
+  nearRigidCapped_ = false;
   return true;
 }
 
@@ -260,17 +268,39 @@ void Constraint::Evaluate(Span<real const> target, internal::ConstraintWorkspace
   DoEvaluate(target, ws.g.head(dimension_), ws.jacobian.topLeftCorner(dimension_, n));
 }
 
-void Constraint::BeginStage(internal::ConstraintWorkspace& ws) {
+bool Constraint::BeginStage(real h, real nearRigidBeta, Span<real const> inverseMasses,
+                            internal::ConstraintWorkspace& ws) {
   // g(qᵢ⁰, p̂ᵢ⁰): the actors are at the stage start, the old target is p̂ᵢ⁰
   Evaluate(oldTarget_, ws);
   stageStartValue_ = ws.g.head(dimension_);
+  // the near-rigid cap from the stage-start Jacobian (off: k and d as set)
+  nearRigidCapped_ = false;
+  stageParams_ = params_;
+  if (nearRigidBeta > 0)
+    stageParams_ = internal::NearRigidParams(params_, h, nearRigidBeta,
+                                             InverseEffectiveMass(inverseMasses, ws), nearRigidCapped_);
+  return nearRigidCapped_;
+}
+
+real Constraint::InverseEffectiveMass(Span<real const> inverseMasses,
+                                      internal::ConstraintWorkspace const& ws) const {
+  // the largest diagonal entry of J diag(M⁻¹) Jᵀ: row i alone, with every
+  // other row free, oscillates at ω² = k wᵢ
+  int const n = static_cast<int>(dofs_.size());
+  real w = 0;
+  for (int i = 0; i < dimension_; ++i) {
+    real row = 0;
+    for (int j = 0; j < n; ++j) row += ws.jacobian(i, j) * ws.jacobian(i, j) * inverseMasses[dofs_[j]];
+    w = std::max(w, row);
+  }
+  return w;
 }
 
 real Constraint::Energy(real h, internal::ConstraintWorkspace& ws) const {
   Evaluate(target_, ws);
   auto const g = ws.g.head(dimension_);
   if (isRange_ && internal::IsRangeInactive(g, stageStartValue_)) return 0;
-  return internal::CompliantEnergy(params_, g, stageStartValue_, h);
+  return internal::CompliantEnergy(stageParams_, g, stageStartValue_, h);
 }
 
 void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
@@ -283,7 +313,7 @@ void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
   if (isRange_ && internal::IsRangeInactive(g, stageStartValue_)) return;
   auto const jacobian = ws.jacobian.topLeftCorner(m, n);
   real const scale =
-      internal::CompliantForceCoefficients(params_, g, stageStartValue_, h, ws.f.head(m));
+      internal::CompliantForceCoefficients(stageParams_, g, stageStartValue_, h, ws.f.head(m));
   ws.r.head(n).noalias() = jacobian.transpose() * ws.f.head(m);
   for (int i = 0; i < n; ++i) gradient[dofs_[i]] += ws.r[i];
   auto hessian = ws.hessian.topLeftCorner(n, n);
@@ -320,7 +350,7 @@ void Constraint::EndStage(real h, internal::ConstraintWorkspace& ws) {
     if (isRange_ && internal::IsRangeInactive(g, stageStartValue_)) {
       std::fill(force_.begin(), force_.end(), 0);
     } else {
-      internal::CompliantForceCoefficients(params_, g, stageStartValue_, h, ws.f.head(m));
+      internal::CompliantForceCoefficients(stageParams_, g, stageStartValue_, h, ws.f.head(m));
       ws.r.head(n).noalias() = ws.jacobian.topLeftCorner(m, n).transpose() * ws.f.head(m);
       for (int i = 0; i < n; ++i) force_[i] = -ws.r[i];
     }

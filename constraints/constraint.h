@@ -133,6 +133,15 @@ class Constraint {
   bool SetDamping(real damping, Error& error);
   /// ḡ: finite; <= 0 (e.g. −1) disables saturation. Force cap = k ḡ.
   bool SetSaturation(real saturation, Error& error);
+  /// The stiffness k and damping d the last stage used: k and d themselves,
+  /// or, where the near-rigid cap (NewtonParams::nearRigidBeta) applied,
+  /// both scaled so that k + d/Δtᵢ = 4π²/(β² Δtᵢ² w) (compliant_potential.h;
+  /// docs/constraints.md "Near-rigid constraints"). Set to k and d by the
+  /// setters, until the next stage.
+  real GetEffectiveStiffness() const { return stageParams_.stiffness; }
+  real GetEffectiveDamping() const { return stageParams_.damping; }
+  /// True when the near-rigid cap lowered k and d in the last stage.
+  bool IsNearRigidCapped() const { return nearRigidCapped_; }
   /// This constraint's Hessian block (SceneDefault: the scene's choice).
   ConstraintHessian GetHessianApproximation() const { return hessian_; }
   /// Any ConstraintHessian value; another value is an InvalidArgument Error.
@@ -224,7 +233,16 @@ class Constraint {
   void Evaluate(Span<real const> target, internal::ConstraintWorkspace& ws) const;
 
   // stage interface
-  void BeginStage(internal::ConstraintWorkspace& ws);
+  /// Records g(qᵢ⁰, p̂ᵢ⁰) and this stage's compliant parameters: with
+  /// `nearRigidBeta` > 0, k and d capped by the near-rigid rule with w the
+  /// largest diagonal entry of J diag(`inverseMasses`) Jᵀ at the stage start
+  /// (`inverseMasses`: the scene's per-DoF estimate, Actor::
+  /// WriteDofInverseMasses; unread when the cap is off). Returns whether the
+  /// cap applied.
+  bool BeginStage(real h, real nearRigidBeta, Span<real const> inverseMasses,
+                  internal::ConstraintWorkspace& ws);
+  /// w = maxᵢ Σⱼ J_ij² inverseMasses[dofⱼ] from the Jacobian in `ws`.
+  real InverseEffectiveMass(Span<real const> inverseMasses, internal::ConstraintWorkspace const& ws) const;
   real Energy(real h, internal::ConstraintWorkspace& ws) const;
   /// `sceneHessian` is the scene's choice, used where this constraint's own
   /// is SceneDefault; with `projectHessian` the block is PSD.
@@ -245,6 +263,8 @@ class Constraint {
   std::array<DynamicArray<int>, 2> localDofs_;
   DynamicArray<int> dofs_;  ///< global DoF list (actor 0's, then actor 1's)
   internal::CompliantParams params_;
+  internal::CompliantParams stageParams_;  ///< params_, or its near-rigid cap, for this stage
+  bool nearRigidCapped_ = false;
 
   Target target_{};
   Target oldTarget_{};  ///< p̂ᵢ⁰, the target at the stage start

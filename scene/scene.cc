@@ -64,6 +64,8 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
   if (!CheckConstraintHessian(params.newton.constraintHessian, "SceneParams.newton.constraintHessian", false,
                               error))
     return nullptr;
+  if (!CheckNonNegative(params.newton.nearRigidBeta, "SceneParams.newton.nearRigidBeta", error))
+    return nullptr;
   if (params.newton.maxLineSearchSteps <= 0) {
     error.Set(ErrorCode::InvalidArgument, "SceneParams.newton.maxLineSearchSteps must be > 0, got " +
                                                std::to_string(params.newton.maxLineSearchSteps));
@@ -543,6 +545,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.linearSolves = 0;
   stats_.projectionFallbacks = 0;
   stats_.roundOffConvergences = 0;
+  stats_.nearRigidConstraints = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;
 

@@ -47,6 +47,17 @@ struct NewtonParams {
   /// The constraint blocks of the Newton Hessian, for every constraint whose
   /// own choice is ConstraintHessian::SceneDefault (not allowed here).
   ConstraintHessian constraintHessian = ConstraintHessian::GeometricStiffness;
+  /// The near-rigid cap β (off when 0, the default; finite and >= 0). With
+  /// β > 0, every constraint whose k + d/Δtᵢ exceeds 4π²/(β² Δtᵢ² w) — w its
+  /// inverse effective mass, the largest diagonal entry of J diag(M)⁻¹ Jᵀ at
+  /// the stage start — has k and d scaled down to that bound for the stage
+  /// (d/k kept; a saturated constraint keeps its force cap k ḡ), so that no
+  /// constraint oscillates with a period below β Δtᵢ: the Newton Hessian stays
+  /// well-conditioned for PCG, and the answer changes (a softer constraint),
+  /// which is why it is opt-in. β = 1 is Drake SAP's near-rigid threshold;
+  /// smaller β caps less. SceneStats::nearRigidConstraints counts the capped
+  /// constraints; docs/constraints.md "Near-rigid constraints (opt-in)".
+  real nearRigidBeta = 0;
 };
 
 /// Automatic sub-stepping: a policy for steps that fail, off by default.
@@ -103,6 +114,9 @@ struct SceneStats {
                                    ///< round-off floor of Eᵢ, not on the step norm
   int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
                                    ///< inexact-Newton re-solves)
+  /// Constraints whose k and d the near-rigid cap (NewtonParams::
+  /// nearRigidBeta) lowered: the most in any stage of the last step.
+  int nearRigidConstraints = 0;
   real gradientNorm = 0;           ///< ‖∇E‖∞ at the last Newton iteration
   int numDofs = 0;
   std::int64_t hessianNonzeros = 0;  ///< stored (upper triangle) entries

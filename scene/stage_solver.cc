@@ -51,6 +51,7 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   gradient_.setZero(numDofs);
   delta_.setZero(numDofs);
   dofLengthScales_.setOnes(numDofs);
+  dofInverseMasses_.setZero(numDofs);
   orderedRhs_.setZero(numDofs);
   orderedSolution_.setZero(numDofs);
   stats.patternBuilds = assembler_.GetNumPatternBuilds();
@@ -181,7 +182,14 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
   // constraints first: g(qᵢ⁰, p̂ᵢ⁰) at the committed configuration, before an
   // actor moves its first Newton iterate to its prediction (deformables,
   // rods and articulated actors do)
-  for (Constraint* constraint : constraints) constraint->BeginStage(constraintWorkspace_);
+  // (the near-rigid cap reads the inverse masses there too)
+  Span<real> const inverseMasses(dofInverseMasses_.data(), dofInverseMasses_.size());
+  if (newton.nearRigidBeta > 0)
+    for (Actor* actor : actors) actor->WriteDofInverseMasses(inverseMasses);
+  int nearRigid = 0;
+  for (Constraint* constraint : constraints)
+    nearRigid += constraint->BeginStage(h, newton.nearRigidBeta, inverseMasses, constraintWorkspace_);
+  stats.nearRigidConstraints = std::max(stats.nearRigidConstraints, nearRigid);
   for (Actor* actor : actors) actor->BeginStage(stage, gravity);
   Span<real> const lengthScales(dofLengthScales_.data(), dofLengthScales_.size());
   for (Actor* actor : actors) actor->WriteDofLengthScales(lengthScales);

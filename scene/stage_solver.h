@@ -78,6 +78,7 @@ class StageSolver {
   DynamicArray<int> firstContributor_;  ///< per actor, then per constraint
   VectorX gradient_, delta_, orderedRhs_, orderedSolution_;
   VectorX dofLengthScales_;  ///< ℓⱼ per DoF (Actor::WriteDofLengthScales)
+  VectorX dofInverseMasses_;  ///< 1/M_jj per DoF (Actor::WriteDofInverseMasses), near-rigid cap only
   real energyScale_ = 0;     ///< Σ|terms| of Eᵢ at the last TotalEnergy
   FaultInjection fault_;
 };

@@ -34,7 +34,20 @@ struct ConstraintTestAccess {
   static Span<real const> OldTarget(Constraint const& c) { return c.oldTarget_; }
   /// Stores g(q⁰, p̂⁰) (the current configuration, the old target) as the
   /// stage-start value.
-  static void BeginStage(Constraint& c, ConstraintWorkspace& ws) { c.BeginStage(ws); }
+  static void BeginStage(Constraint& c, ConstraintWorkspace& ws) { c.BeginStage(1, 0, {}, ws); }
+  /// The same with the near-rigid cap β for a stage of duration h and the
+  /// scene's per-DoF inverse masses; returns whether the cap applied.
+  static bool BeginStage(Constraint& c, real h, real beta, Span<real const> inverseMasses,
+                         ConstraintWorkspace& ws) {
+    return c.BeginStage(h, beta, inverseMasses, ws);
+  }
+  /// w, the largest diagonal entry of J diag(inverseMasses) Jᵀ, at the
+  /// current configuration and old target (evaluates into ws).
+  static real InverseEffectiveMass(Constraint const& c, Span<real const> inverseMasses,
+                                   ConstraintWorkspace& ws) {
+    c.Evaluate(c.oldTarget_, ws);
+    return c.InverseEffectiveMass(inverseMasses, ws);
+  }
   /// Φᶜ at the current configuration.
   static real Energy(Constraint const& c, real h, ConstraintWorkspace& ws) { return c.Energy(h, ws); }
   static void AddGradientAndHessian(Constraint const& c, real h, Span<real> gradient,
@@ -59,6 +72,9 @@ struct ConstraintTestAccess {
 };
 
 struct ActorTestAccess {
+  static void WriteDofInverseMasses(Actor const& a, Span<real> inverseMasses) {
+    a.WriteDofInverseMasses(inverseMasses);
+  }
   static void BeginStage(Actor& a, StageCoefficients const& stage, Real3 const& gravity) {
     a.BeginStage(stage, gravity);
   }

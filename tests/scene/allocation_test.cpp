@@ -168,3 +168,43 @@ TEST_CASE("articulated steps after the first allocate nothing", "[scene][allocat
   REQUIRE(scene->GetStats().linearSolver.find("CHOLMOD") != std::string::npos);
   RequireStepsAllocateNothing(*scene, 1e-2, 10);
 }
+
+TEST_CASE("steps with the near-rigid cap allocate nothing", "[scene][allocation][near-rigid]") {
+  // every actor's inverse-mass estimate (the articulated one's mass-matrix
+  // diagonal in its composite scratch) and every constraint's cap, once per
+  // stage; stiff constraints so that the cap applies
+  SceneParams params;
+  params.integrator = IntegratorType::Bdf2;
+  params.newton.hessianProjection = HessianProjection::Always;  // the articulated chain, as above
+  params.newton.nearRigidBeta = 1;
+  Chain chain = MakeChain(4, params, 1e10);
+  Scene& scene = *chain.scene;
+  Error error;
+  DeformableActorParams material;
+  DeformableActor* box = MakeBox(scene, Real3(0, -1, 0), Real3(0.2, 0.1, 0.1), {2, 1, 1}, material);
+  PinNodes(scene, *box, 1e12, [](Real3 const& x) { return x.x() < 1e-9; });
+  RodActorParams rodParams;
+  rodParams.radius = 0.005;
+  RodActor* rod = MakeStraightRod(scene, Real3(0, 1, 0), Real3::UnitX(), 0.3, 6, rodParams);
+  ClampRodEnd(scene, *rod, *chain.bodies[0], false, 1e12, 1e8);
+  ArticulatedActorParams arm;
+  for (int i = 0; i < 4; ++i) {
+    ArticulatedLinkParams link;
+    link.parent = i - 1;
+    link.joint = i % 2 ? JointType::Spherical : JointType::Revolute;
+    link.parentToJointPosition = i == 0 ? Real3(0, 2, 0) : Real3(0.1, 0, 0);
+    link.inertia = Real3(1e-4, 1e-3, 1e-3);
+    link.centerOfMass = Real3(0.05, 0, 0);
+    arm.links.push_back(link);
+  }
+  ArticulatedActor* actor = scene.CreateArticulatedActor(arm, error);
+  REQUIRE(actor);
+  Articulated3dRotationTargetConstraintParams drive;
+  drive.actor = actor->GetHandle();
+  drive.jointIndex = 1;
+  drive.stiffness = 1e9;
+  REQUIRE(scene.CreateArticulated3dRotationTargetConstraint(drive, error));
+  StepOk(scene, 1e-2, 2);
+  REQUIRE(scene.GetStats().nearRigidConstraints > 0);
+  RequireStepsAllocateNothing(scene, 1e-2, 10);
+}
