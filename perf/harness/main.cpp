@@ -126,9 +126,11 @@ class SuiteBuilder {
   }
 
   /// Stability map: stiffness ratio × dt × method, `steps` steps each, PCG
-  /// capped at `pcgMaxIterations` so that failures show.
+  /// capped at `pcgMaxIterations` so that failures show; `nearRigid` > 0
+  /// runs the map with the near-rigid cap β (--near-rigid; its own panels).
   void Stability(std::string const& family, std::string const& size, Strings const& ratios,
-                 Strings const& dts, Labels const& methods, int steps, int pcgMaxIterations) {
+                 Strings const& dts, Labels const& methods, int steps, int pcgMaxIterations,
+                 double nearRigid = 0) {
     for (std::string const& ratio : ratios)
       for (std::string const& dt : dts)
         for (std::string_view method : methods) {
@@ -137,6 +139,7 @@ class SuiteBuilder {
           spec.dt = dt;
           spec.steps = steps;
           spec.pcgMaxIterations = pcgMaxIterations;
+          spec.nearRigid = nearRigid;
           Add(spec);
         }
   }
@@ -217,6 +220,7 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.WorkPrecision("cantilever", "5x1x1", {"1/30", "1/60"}, 1.0 / 15, wpMethods, {"bdf2"});
     b.Stability("cantilever", "5x1x1", {"1", "10000"}, {"1/60", "1/15"}, {"cholmod", "pcg-jacobi"},
                 2, 200);
+    b.Stability("chain", "N=5", {"10000"}, {"1/15"}, {"pcg-jacobi"}, 2, 200, 1);  // --near-rigid
     b.Scaling("cantilever", {"5x1x1"}, {"cholmod"}, 2, "bullet");
     // rods: pcg-gamg left out (its default Chebyshev smoothers give an
     // indefinite preconditioner on rods of >= 50 nodes, README.md)
@@ -249,6 +253,8 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     // 20x4x4 beam, GAMG ~30, so the map shows where a cheap PC gives out
     b.Stability("cantilever", "20x4x4", stabilityRatios, stabilityDts, stabilityMethods, 3, 200);
     b.Stability("chain", "N=50", stabilityRatios, chainStabilityDts, stabilityMethods, 3, 200);
+    // the same map under the near-rigid cap β = 1 (docs/constraints.md)
+    b.Stability("chain", "N=50", stabilityRatios, chainStabilityDts, stabilityMethods, 3, 200, 1);
     b.Stability("chain-articulated", "N=50", {"1"}, chainStabilityDts, stabilityMethods, 3, 200);
     for (std::string family : {"chain", "chain-articulated"})
       b.LongRun(family, {"N=2", "N=10", "N=50"}, chainLongDts, chainLongEnd);
@@ -303,6 +309,8 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Stability("cantilever", "20x4x4", stabilityRatios, stabilityDts, stabilityMethods, 3, 200);
     b.Stability("cloth", "24x24", stabilityRatios, stabilityDts, stabilityMethods, 3, 200);
     b.Stability("chain", "N=50", stabilityRatios, chainStabilityDts, stabilityMethods, 3, 200);
+    // the same map under the near-rigid cap β = 1 (docs/constraints.md)
+    b.Stability("chain", "N=50", stabilityRatios, chainStabilityDts, stabilityMethods, 3, 200, 1);
     b.Stability("chain-articulated", "N=50", {"1"}, chainStabilityDts, stabilityMethods, 3, 200);
     // rods scaling to 100k DoFs, 3 steps. pcg-gamg and pcg-gamg-reuse fail
     // at the first solve from 50 nodes per rod on (README.md: the rods
@@ -338,6 +346,7 @@ std::string RunTitle(RunSpec const& spec, std::size_t index, std::size_t count) 
        {spec.study + ":", spec.family, spec.size, MaterialLabel(spec.family, spec.stiffnessRatio),
         spec.method, spec.integrator, "dt=" + spec.dt})
     title.append(part).append(" ");
+  if (spec.nearRigid > 0) title.append("near-rigid=" + ShortNumber(spec.nearRigid) + " ");
   title.pop_back();
   return title;
 }

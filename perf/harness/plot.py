@@ -50,8 +50,8 @@ from matplotlib.patches import Patch  # noqa: E402
 
 COLUMNS = (
     "suite study family size dofs material stiffness_ratio method solver "
-    "preconditioner rtol newton_tol constraint_hessian integrator dt steps end_time "
-    "newton_iterations linear_iterations linear_solves pattern_builds "
+    "preconditioner rtol newton_tol constraint_hessian near_rigid integrator dt steps end_time "
+    "newton_iterations linear_iterations linear_solves near_rigid_capped pattern_builds "
     "symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops "
     "analysis_s assembly_s factorization_s solve_s line_search_s other_s "
     "wall_per_step_s total_s peak_rss_mb error reference joint_drift energy_gain "
@@ -148,6 +148,14 @@ def sizes_of(rows):
 
 def run_label(method, integ, multi):
     return f"{method} {integ}" if multi and integ else method
+
+
+def stability_label(row, multi):
+    """A stability panel: the method (and integrator), and the near-rigid cap
+    β when the run set one (--near-rigid), so that capped runs get their own panel."""
+    label = run_label(row["method"], row["integrator"], multi)
+    beta = num(row, "near_rigid")
+    return f"{label}, near-rigid β={beta:g}" if pos(beta) else label
 
 
 # ------------------------------------------------------------- formatting ----
@@ -413,7 +421,7 @@ def chart_stability(st, out, written):
         return
     for fam, fr in group(st, lambda r: r["family"]).items():
         multi = len({r["integrator"] for r in fr}) > 1
-        panels = group(fr, lambda r: run_label(r["method"], r["integrator"], multi))
+        panels = group(fr, lambda r: stability_label(r, multi))
         dts = sorted({num(r, "dt") for r in fr if num(r, "dt") is not None})
         ratios = sorted({ratio(r) for r in fr})
         fig, axes = panel_grid(len(panels), max(3.8, 1.0 * len(dts) + 1.8),
@@ -568,7 +576,7 @@ def summary(rows, out, written):
             multi = len({r["integrator"] for r in fr}) > 1
             dts = sorted({num(r, "dt") for r in fr if num(r, "dt") is not None})
             ratios = sorted({ratio(r) for r in fr})
-            for label, g in group(fr, lambda r: run_label(r["method"], r["integrator"], multi)).items():
+            for label, g in group(fr, lambda r: stability_label(r, multi)).items():
                 cells = stability_cells(g, dts, ratios)
                 body = []
                 for i, k in enumerate(ratios):

@@ -35,6 +35,7 @@ struct RunSpec {
   double newtonTol = 1e-6;            ///< Newton velocityTolerance [m/s]
   int newtonMaxIterations = 0;        ///< 0: the family's default
   std::string constraintHessian = "gs";  ///< gn | gs | gsd: NewtonParams::constraintHessian
+  double nearRigid = 0;               ///< NewtonParams::nearRigidBeta: the near-rigid cap β, 0 = off
   int pcgMaxIterations = 10000;       ///< PCG iteration cap
   std::string referenceOut;           ///< write the final tracked positions here
   std::string referenceIn;            ///< compare the final tracked positions with this file
@@ -109,8 +110,8 @@ inline constexpr int kDenseMaxDofs = 2000;
 // clang-format off
 enum Column : int {
   kSuite, kStudy, kFamily, kSize, kDofs, kMaterial, kStiffnessRatio, kMethod, kSolver,
-  kPreconditioner, kRtol, kNewtonTol, kConstraintHessian, kIntegrator, kDt, kSteps, kEndTime, kNewtonIterations,
-  kLinearIterations, kLinearSolves, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
+  kPreconditioner, kRtol, kNewtonTol, kConstraintHessian, kNearRigid, kIntegrator, kDt, kSteps, kEndTime,
+  kNewtonIterations, kLinearIterations, kLinearSolves, kNearRigidCapped, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
   kNnzH, kNnzL, kFactorFlops, kAnalysisS, kAssemblyS, kFactorizationS, kSolveS, kLineSearchS,
   kOtherS, kWallPerStepS, kTotalS, kPeakRssMb, kError, kReference, kJointDrift, kEnergyGain,
   kStatus, kReason, kNumColumns
