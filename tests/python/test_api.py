@@ -20,7 +20,8 @@ EXPECTED = {
                       "set_saturation set_target_position set_target_rotation set_target_transform "
                       "set_target_dof update_old_target get_deviation is_query_supported register_query "
                       "get_force get_limit_min_values get_limit_max_values has_curvature "
-                      "get_hessian_approximation set_hessian_approximation",
+                      "get_hessian_approximation set_hessian_approximation get_effective_stiffness "
+                      "get_effective_damping is_near_rigid_capped",
     mochi.Actor: "get_handle get_type get_num_dofs get_dof_offset",
     mochi.NodalActor: "get_num_nodes get_node_position get_node_velocity get_node_mass get_transform_rotation "
                       "get_node_dof_stride get_node_position_dofs get_node_positions",
@@ -102,6 +103,8 @@ def test_every_enum_value_is_bound():
         "SceneDefault", "GaussNewton", "GeometricStiffness", "GeometricStiffnessDiagonal"]
     assert mochi.NewtonParams().constraint_hessian == mochi.ConstraintHessian.GeometricStiffness
     assert hasattr(mochi.SceneStats, "round_off_convergences")
+    assert mochi.NewtonParams().near_rigid_beta == 0
+    assert hasattr(mochi.SceneStats, "near_rigid_constraints")
 
 
 def test_everything_has_a_docstring():

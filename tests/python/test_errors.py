@@ -64,6 +64,9 @@ def test_scene_params_are_validated():
     with raises(mochi.ErrorCode.InvalidArgument, "SceneParams.newton.constraintHessian"):
         mochi.Scene.create(newton=mochi.NewtonParams(
             constraint_hessian=mochi.ConstraintHessian.SceneDefault))
+    for beta in (-1.0, NAN):
+        with raises(mochi.ErrorCode.InvalidArgument, "SceneParams.newton.nearRigidBeta"):
+            mochi.Scene.create(newton=mochi.NewtonParams(near_rigid_beta=beta))
 
 
 @pytest.mark.parametrize("field,value,fragment", [

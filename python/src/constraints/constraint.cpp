@@ -79,6 +79,13 @@ void DefineConstraint(py::module_& m) {
       .def("get_stiffness", Forward<Ref>(&C::GetStiffness), "k [N/m or N·m/rad].")
       .def("get_damping", Forward<Ref>(&C::GetDamping), "d [N·s/m or N·m·s/rad].")
       .def("get_saturation", Forward<Ref>(&C::GetSaturation), "ḡ; <= 0 means disabled.")
+      .def("get_effective_stiffness", Forward<Ref>(&C::GetEffectiveStiffness),
+           "k as the last stage used it: k, or its near-rigid cap (NewtonParams.near_rigid_beta); "
+           "reset to k by the setters.")
+      .def("get_effective_damping", Forward<Ref>(&C::GetEffectiveDamping),
+           "d as the last stage used it: d, or its near-rigid cap; reset to d by the setters.")
+      .def("is_near_rigid_capped", Forward<Ref>(&C::IsNearRigidCapped),
+           "True when the near-rigid cap lowered k and d in the last stage.")
       .def(
           "set_stiffness",
           [](Ref const& self, real k) {

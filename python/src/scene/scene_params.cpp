@@ -27,7 +27,13 @@ void DefineSceneParams(py::module_& m) {
              "HessianProjection, default WhenIndefinite")
       .Field("constraint_hessian", &N::constraintHessian,
              "ConstraintHessian of every constraint that does not choose its own, default "
-             "GeometricStiffness (SceneDefault is refused here)");
+             "GeometricStiffness (SceneDefault is refused here)")
+      .Field("near_rigid_beta", &N::nearRigidBeta,
+             "the near-rigid cap β, finite and >= 0; 0 (default) turns it off. With β > 0 a "
+             "constraint whose k + d/Δt exceeds 4π²/(β² Δt² w), w its inverse effective mass "
+             "(largest diagonal entry of J diag(M)⁻¹ Jᵀ at the stage start), has k and d scaled "
+             "down to that bound for the stage (d/k and the force cap k·ḡ kept). It changes the "
+             "answer; docs/constraints.md 'Near-rigid constraints (opt-in)'");
 
   ParamsClass<SubstepParams>(
       m, "SubstepParams",
@@ -78,6 +84,9 @@ void DefineSceneParams(py::module_& m) {
                     "last step: stages converged on a Newton decrement at the round-off floor of "
                     "the energy, not on the step norm")
       .def_readonly("linear_solves", &T::linearSolves, "last step")
+      .def_readonly("near_rigid_constraints", &T::nearRigidConstraints,
+                    "last step: constraints whose k and d the near-rigid cap lowered (the most in "
+                    "any stage)")
       .def_readonly("gradient_norm", &T::gradientNorm, "||∇E||∞ at the last Newton iteration")
       .def_readonly("num_dofs", &T::numDofs)
       .def_readonly("hessian_nonzeros", &T::hessianNonzeros, "stored (upper triangle) entries")
