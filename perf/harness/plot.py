@@ -374,6 +374,10 @@ def chart_chain(rows, out, style, written):
     p = chain_lines(c, lr, by_dt, lambda r: reached(r), dt_style, dt_label_of)
     log_axes(c, p, f"long runs: simulated time reached of {end:g} s (failed: Newton stalled)",
              "links N", "time reached [s]", "lower left")
+    # a fixed range: when every run reaches the end the values differ only by
+    # the rounding of steps × dt, which an autoscaled log axis would magnify
+    shortest = min([reached(r) for r in lr if reached(r) > 0] + [end])
+    c.set_ylim(min(0.5 * shortest, 0.1 * end), 1.5 * end)
     p = chain_lines(d, lr, by_dt, lambda r: num(r, "joint_drift"), dt_style, dt_label_of)
     log_axes(d, p, "long runs: largest joint drift (distance of the joint's two points)",
              "links N", "joint drift [m]", "center left")
