@@ -321,9 +321,7 @@ Real3 ArticulatedActor::GetAngularMomentum() const {
   return l;
 }
 
-MatrixX ArticulatedActor::ComputeMassMatrix() const {
-  // CRBA: composite spatial inertias about the world origin, summed from the
-  // leaves; M_jk = s_jᵀ I_c(k) s_k for j on the path from k to the root
+void ArticulatedActor::ComputeCompositeInertias() const {
   ComputeKinematics(state_.joints, kinematics_);
   int const numLinks = GetNumLinks();
   for (int i = 0; i < numLinks; ++i) {
@@ -333,6 +331,13 @@ MatrixX ArticulatedActor::ComputeMassMatrix() const {
   }
   for (int i = numLinks - 1; i > 0; --i)
     if (links_[i].parent >= 0) composite_[links_[i].parent] += composite_[i];
+}
+
+MatrixX ArticulatedActor::ComputeMassMatrix() const {
+  // CRBA: composite spatial inertias about the world origin, summed from the
+  // leaves; M_jk = s_jᵀ I_c(k) s_k for j on the path from k to the root
+  ComputeCompositeInertias();
+  int const numLinks = GetNumLinks();
   MatrixX mass = MatrixX::Zero(numDofs_, numDofs_);
   for (int k = 0; k < numLinks; ++k) {
     Link const& lk = links_[k];
@@ -427,15 +432,8 @@ void ArticulatedActor::WriteDofInverseMasses(Span<real> inverseMasses) const {
   // the diagonal of the CRBA mass matrix, M_jj = s_jᵀ I_c(k) s_j + armature
   // for DoF j of link k (I_c(k) the composite inertia of k's subtree), in the
   // kinematics and composite scratch: no allocation
-  ComputeKinematics(state_.joints, kinematics_);
+  ComputeCompositeInertias();
   int const numLinks = GetNumLinks();
-  for (int i = 0; i < numLinks; ++i) {
-    Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
-    composite_[i] = SpatialStiffness(r * links_[i].inertia.asDiagonal() * r.transpose(), links_[i].mass,
-                                     kinematics_.com[i]);
-  }
-  for (int i = numLinks - 1; i > 0; --i)
-    if (links_[i].parent >= 0) composite_[links_[i].parent] += composite_[i];
   for (int k = 0; k < numLinks; ++k)
     for (int j = links_[k].dofStart; j < links_[k].dofStart + links_[k].numDofs; ++j) {
       auto const s = kinematics_.motion.col(j);

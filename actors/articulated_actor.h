@@ -212,6 +212,9 @@ class ArticulatedActor final : public Actor {
   mutable Eigen::LDLT<MatrixX> modifiedFactor_;
   mutable VectorX modifiedColumn_;
   mutable DynamicArray<int> modifiedOrder_;
+  /// kinematics_ and composite_: the links' world poses and the composite
+  /// spatial inertias of their subtrees about the origin (CRBA's first pass).
+  void ComputeCompositeInertias() const;
   /// hessian_ ← Pᵀ L |D|₊ Lᵀ P from its pivoted LDLᵀ Pᵀ L D Lᵀ P (a
   /// modified Cholesky: equal where positive definite).
   void ModifyHessianToPositiveDefinite() const;

@@ -160,4 +160,37 @@ inline RodClamp ClampRodEnd(Scene& scene, RodActor& rod, RigidActor& body, bool 
   return clamp;
 }
 
+/// A compound pendulum: one rigid body hanging from a RigidPivotPosition at
+/// the world origin, the pivot `arm` above the centre of mass in the body
+/// frame, the body turned by `angle` about z.
+struct Pendulum {
+  std::unique_ptr<Scene> scene;
+  RigidActor* body = nullptr;
+  Constraint* pin = nullptr;
+};
+
+inline Pendulum MakePendulum(SceneParams const& params, real mass, Real3 const& inertia, real arm,
+                             real stiffness, real angle) {
+  Pendulum p;
+  p.scene = MakeScene(params);
+  Quat const rotation(Eigen::AngleAxis<real>(angle, Real3::UnitZ()));
+  Real3 const localPivot(0, arm, 0);
+  RigidActorParams body;
+  body.mass = mass;
+  body.inertia = inertia;
+  body.rotation = rotation;
+  body.position = -(rotation * localPivot);
+  p.body = MakeRigid(*p.scene, body);
+  RigidPivotPositionConstraintParams pin;
+  pin.actor = p.body->GetHandle();
+  pin.localPos = localPivot;
+  pin.position = Real3::Zero();
+  pin.stiffness = stiffness;
+  Error error;
+  p.pin = p.scene->CreateRigidPivotPositionConstraint(pin, error);
+  INFO(error.ToString());
+  REQUIRE(p.pin);
+  return p;
+}
+
 }  // namespace superdex::test

@@ -36,33 +36,9 @@ VectorX InverseMasses(Scene& scene) {
 // RigidPivotPosition at r = (0, L, 0) in its frame, swinging in the x–y plane
 constexpr real kMass = 2, kInertia = 0.1, kArm = 0.5, kDt = 1e-3;
 
-struct Pendulum {
-  std::unique_ptr<Scene> scene;
-  RigidActor* body = nullptr;
-  Constraint* pin = nullptr;
-};
-
 Pendulum MakePendulum(SceneParams params, real stiffness, real angle = 0.3) {
   params.newton.velocityTolerance = 1e-10;
-  Pendulum p;
-  p.scene = MakeScene(params);
-  Quat const rotation(Eigen::AngleAxis<real>(angle, Real3::UnitZ()));
-  Real3 const localPivot(0, kArm, 0);
-  RigidActorParams body;
-  body.mass = kMass;
-  body.inertia = Real3::Constant(kInertia);
-  body.rotation = rotation;
-  body.position = -(rotation * localPivot);
-  p.body = MakeRigid(*p.scene, body);
-  RigidPivotPositionConstraintParams pin;
-  pin.actor = p.body->GetHandle();
-  pin.localPos = localPivot;
-  pin.position = Real3::Zero();
-  pin.stiffness = stiffness;
-  Error error;
-  p.pin = p.scene->CreateRigidPivotPositionConstraint(pin, error);
-  REQUIRE(p.pin);
-  return p;
+  return test::MakePendulum(params, kMass, Real3::Constant(kInertia), kArm, stiffness, angle);
 }
 
 /// The pivot's w by hand: J = [I₃, −[p]×] (p = R r the world arm), so

@@ -1,6 +1,6 @@
 // A rigid body hung from a RigidPivotPosition: the compound-pendulum period
 // and the static deviation m g / k.
-#include "test_support.h"
+#include "test_scenes.h"
 
 #include <cmath>
 #include <numbers>
@@ -15,36 +15,12 @@ const Real3 kInertia{0.1, 0.2, 0.3};
 constexpr real kStiffness = 1e8;
 constexpr real kDt = 1e-3;
 
-struct Pendulum {
-  std::unique_ptr<Scene> scene;
-  RigidActor* body;
-  Constraint* pivot;
-};
-
 // pivot at the world origin, body rotated by `angle` about z
 Pendulum MakePendulum(real angle, IntegratorType integrator) {
   SceneParams params;
   params.integrator = integrator;
   params.newton.velocityTolerance = 1e-9;
-  Pendulum p;
-  p.scene = MakeScene(params);
-  Quat const rotation(Eigen::AngleAxis<real>(angle, Real3::UnitZ()));
-  Real3 const localPivot(0, kArm, 0);
-  RigidActorParams body;
-  body.mass = kMass;
-  body.inertia = kInertia;
-  body.rotation = rotation;
-  body.position = -(rotation * localPivot);
-  p.body = MakeRigid(*p.scene, body);
-  RigidPivotPositionConstraintParams pivot;
-  pivot.actor = p.body->GetHandle();
-  pivot.localPos = localPivot;
-  pivot.position = Real3::Zero();
-  pivot.stiffness = kStiffness;
-  Error error;
-  p.pivot = p.scene->CreateRigidPivotPositionConstraint(pivot, error);
-  REQUIRE(p.pivot);
-  return p;
+  return test::MakePendulum(params, kMass, kInertia, kArm, kStiffness, angle);
 }
 }  // namespace
 
@@ -75,7 +51,7 @@ TEST_CASE("compound pendulum swings at its analytic period", "[scene][pendulum]"
 TEST_CASE("a body hanging at rest deviates by m g / k", "[scene][pendulum]") {
   Pendulum p = MakePendulum(0, IntegratorType::BackwardEuler);
   StepOk(*p.scene, kDt, 50);
-  Real3 const deviation = ToReal3(p.pivot->GetDeviation());
+  Real3 const deviation = ToReal3(p.pin->GetDeviation());
   real const expected = kMass * 9.81 / kStiffness;
   CAPTURE(deviation.transpose(), expected);
   REQUIRE(deviation.norm() > 0);
