@@ -197,6 +197,40 @@ void Constraint::InitializeTarget(Target const& target) {
   oldTarget_ = target;
 }
 
+namespace {
+// out[i] = a[i] + s (b[i] − a[i]) for i in [first, first + count)
+template <class Target>
+void Lerp(Target const& a, Target const& b, real s, int first, int count, Target& out) {
+  for (int i = first; i < first + count; ++i) out[i] = a[i] + s * (b[i] - a[i]);
+}
+
+// the unit quaternion (w, x, y, z) at `first`: slerp from a's to b's (shortest arc)
+template <class Target>
+void Slerp(Target const& a, Target const& b, real s, int first, Target& out) {
+  Quat const qa(a[first], a[first + 1], a[first + 2], a[first + 3]);
+  Quat const qb(b[first], b[first + 1], b[first + 2], b[first + 3]);
+  Quat const q = qa.slerp(s, qb).normalized();
+  out[first] = q.w(), out[first + 1] = q.x(), out[first + 2] = q.y(), out[first + 3] = q.z();
+}
+}  // namespace
+
+void Constraint::SetTargetBetween(Target const& from, Target const& to, real s) {
+  if (s == 1 || from == to) {
+    target_ = to;
+    return;
+  }
+  switch (targetKind_) {
+    case TargetKind::None: break;
+    case TargetKind::Position: Lerp(from, to, s, 0, 3, target_); break;
+    case TargetKind::Dof: Lerp(from, to, s, 0, 1, target_); break;
+    case TargetKind::Rotation: Slerp(from, to, s, 0, target_); break;
+    case TargetKind::Transform:
+      Lerp(from, to, s, 0, 3, target_);
+      Slerp(from, to, s, 3, target_);
+      break;
+  }
+}
+
 Real3 Constraint::TargetPosition(Span<real const> target) { return {target[0], target[1], target[2]}; }
 
 Quat Constraint::TargetRotation(Span<real const> target, int offset) {

@@ -228,6 +228,10 @@ class Constraint {
   void ReportNotSupported(std::string_view method, std::string_view why, Error& error) const;
   bool RequireTarget(TargetKind kind, std::string_view method, Error& error) const;
   DynamicArray<real> GetLimits(bool upper, std::string_view method, Error& error) const;
+  /// target_ ← the target a fraction s ∈ [0, 1] of the way from `from` to
+  /// `to` (positions and DoF values linearly, rotations by slerp); exactly
+  /// `to` at s = 1 or when the two are equal (sub-stepping, scene.cc).
+  void SetTargetBetween(Target const& from, Target const& to, real s);
   /// Recomputes global DoF indices from the actors' offsets.
   void RefreshDofs();
   void Evaluate(Span<real const> target, internal::ConstraintWorkspace& ws) const;

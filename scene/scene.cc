@@ -654,51 +654,12 @@ void Scene::SaveOrRestoreSubstepState(bool save) {
   }
 }
 
-namespace {
-// (templates: Constraint::Target is the scene's to name, not these helpers')
-// out[i] = a[i] + s (b[i] − a[i]) for i in [first, first + count)
-template <class Target>
-void Lerp(Target const& a, Target const& b, real s, int first, int count, Target& out) {
-  for (int i = first; i < first + count; ++i) out[i] = a[i] + s * (b[i] - a[i]);
-}
-
-// the unit quaternion (w, x, y, z) at `first`: slerp from a's to b's (shortest arc)
-template <class Target>
-void Slerp(Target const& a, Target const& b, real s, int first, Target& out) {
-  Quat const qa(a[first], a[first + 1], a[first + 2], a[first + 3]);
-  Quat const qb(b[first], b[first + 1], b[first + 2], b[first + 3]);
-  Quat const q = qa.slerp(s, qb).normalized();
-  out[first] = q.w(), out[first + 1] = q.x(), out[first + 2] = q.y(), out[first + 3] = q.z();
-}
-}  // namespace
-
 void Scene::SetSubstepTargets(int index, int substeps) {
   real const s = static_cast<real>(index) / substeps;
   for (std::size_t i = 0; i < constraintOrder_.size(); ++i) {
-    Constraint& c = *constraintOrder_[i];
-    Constraint::Target const& from = constraintSnapshots_[i];  // the old target p̂ᵢ⁰
-    Constraint::Target const& to = targetSnapshots_[i];        // as the caller set it
-    if (index == substeps || from == to) {
-      c.target_ = to;
-      continue;
-    }
-    switch (c.targetKind_) {
-      case Constraint::TargetKind::None:
-        break;
-      case Constraint::TargetKind::Position:
-        Lerp(from, to, s, 0, 3, c.target_);
-        break;
-      case Constraint::TargetKind::Dof:
-        Lerp(from, to, s, 0, 1, c.target_);
-        break;
-      case Constraint::TargetKind::Rotation:
-        Slerp(from, to, s, 0, c.target_);
-        break;
-      case Constraint::TargetKind::Transform:
-        Lerp(from, to, s, 0, 3, c.target_);
-        Slerp(from, to, s, 3, c.target_);
-        break;
-    }
+    // from the old target p̂ᵢ⁰ to the target as the caller set it
+    constraintOrder_[i]->SetTargetBetween(constraintSnapshots_[i], targetSnapshots_[i],
+                                           index == substeps ? real(1) : s);
   }
 }
 

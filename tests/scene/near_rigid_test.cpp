@@ -140,14 +140,11 @@ TEST_CASE("the effective stiffness matches the hand computation", "[scene][near-
     material.density = 800;
     DeformableActor* box = MakeBox(*scene, Real3::Zero(), Real3(0.2, 0.1, 0.1), {2, 1, 1}, material);
     int const node = 3;
-    Error error;
-    DeformableNodePositionConstraintParams pin;
-    pin.actor = box->GetHandle();
-    pin.nodeIndex = node;
-    pin.position = box->GetNodePosition(node);
-    pin.stiffness = 1e12;
-    Constraint* c = scene->CreateDeformableNodePositionConstraint(pin, error);
-    REQUIRE(c);
+    Real3 const pinned = box->GetNodeReferencePosition(node);
+    DynamicArray<Constraint*> const pins =
+        PinNodes(*scene, *box, 1e12, [&](Real3 const& x) { return x == pinned; });
+    REQUIRE(pins.size() == 1);
+    Constraint* c = pins[0];
     VectorX const inverse = InverseMasses(*scene);
     Span<real const> const span(inverse.data(), inverse.size());
     real const mass = box->GetNodeMass(node);
