@@ -112,6 +112,9 @@ struct SceneStats {
   int projectionFallbacks = 0;     ///< Newton iterations re-assembled with projected Hessians
   int roundOffConvergences = 0;    ///< stages that converged on a Newton decrement at the
                                    ///< round-off floor of Eᵢ, not on the step norm
+  /// Newton iterations whose projected step the line search lengthened
+  /// (doubled while Eᵢ kept falling along a concave ray: near a saddle)
+  int lineSearchExpansions = 0;
   int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
                                    ///< inexact-Newton re-solves)
   /// Constraints whose k and d the near-rigid cap (NewtonParams::

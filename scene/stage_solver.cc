@@ -14,6 +14,8 @@ namespace {
 /// Round-off resolution of the incremental potential, in units of its
 /// magnitude Σ|terms|: a decrease smaller than this is not resolvable.
 constexpr real kRoundOffUlps = 64;
+/// Doublings of a projected step on a concave ray (at most 2²⁰ times the step)
+constexpr int kMaxExpansions = 20;
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -332,6 +334,25 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
                       Format(stepNorm) + ", gradient norm " +
                       Format(stats.gradientNorm) + ")");
         return false;
+      }
+      // Expansion: a projected Hessian overestimates the curvature
+      // (H_p − H ⪰ 0). Where the full step decreased Eᵢ by more than 3/4 of
+      // the slope (1.5 × the decrease the model predicts, ½|∇E·δ|), the true
+      // curvature along δ is below half the model's or negative: near a
+      // saddle of a folding cloth the projected steps are then a small
+      // fraction of the way down and Newton crawls away from it by a constant
+      // factor per iteration. Such a step is doubled while each doubling
+      // decreases Eᵢ further (docs/architecture.md, measurements).
+      if (project && alpha == 1 && std::isfinite(trialEnergy) && trialEnergy < energy + 0.75 * slope) {
+        for (int k = 0; k < kMaxExpansions; ++k) {
+          for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, 2 * alpha);
+          real const expandedEnergy = TotalEnergy(actors, constraints, h);
+          if (!(expandedEnergy < trialEnergy)) break;
+          alpha *= 2;
+          trialEnergy = expandedEnergy;
+        }
+        for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, alpha);
+        if (alpha > 1) ++stats.lineSearchExpansions;
       }
       lastChangeUnresolved = std::abs(trialEnergy - energy) <= resolution;
       energy = trialEnergy;

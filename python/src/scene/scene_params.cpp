@@ -83,6 +83,9 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("round_off_convergences", &T::roundOffConvergences,
                     "last step: stages converged on a Newton decrement at the round-off floor of "
                     "the energy, not on the step norm")
+      .def_readonly("line_search_expansions", &T::lineSearchExpansions,
+                    "last step: Newton iterations whose projected step the line search doubled "
+                    "while the energy kept falling along a concave ray (near a saddle)")
       .def_readonly("linear_solves", &T::linearSolves, "last step")
       .def_readonly("near_rigid_constraints", &T::nearRigidConstraints,
                     "last step: constraints whose k and d the near-rigid cap lowered (the most in "
