@@ -358,19 +358,11 @@ void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
     // G = Σᵢ fᵢ ∂²gᵢ/∂q², the joint forces' geometric stiffness
     ws.curvature.setZero(n, n);
     DoAddCurvature(target_, ws.f.head(m), ws.curvature);
-    if (mode == ConstraintHessian::GeometricStiffnessDiagonal) {
+    if (projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal) {
+      // PSD: G replaced by the diagonal of its column norms (Andrews et al.)
       for (int j = 0; j < n; ++j) hessian(j, j) += ws.curvature.col(j).norm();
-    } else if (!projectHessian) {
-      hessian += ws.curvature;
     } else {
-      // the whole block, clamped to its non-negative eigenvalues
-      ws.curvature += hessian;
-      ws.eigen.compute(ws.curvature);
-      auto const& values = ws.eigen.eigenvalues();
-      auto const& vectors = ws.eigen.eigenvectors();
-      hessian.setZero();
-      for (int k = 0; k < n; ++k)
-        if (values[k] > 0) hessian.noalias() += values[k] * vectors.col(k) * vectors.col(k).transpose();
+      hessian += ws.curvature;
     }
   }
   assembler.AddBlock(contributor, hessian);

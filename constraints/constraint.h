@@ -63,8 +63,7 @@ enum class ConstraintHessian {
   /// Geometric stiffness: (κ + d/Δtᵢ) JᵀJ + G, exact while Newton tries
   /// exact Hessians (HessianProjection::WhenIndefinite: the assembled matrix
   /// is positive definite and the step a descent direction); in projected
-  /// iterations the block is projected to positive semi-definite by clamping
-  /// its negative eigenvalues to zero.
+  /// iterations G is replaced by its diagonal form (below), PSD.
   GeometricStiffness,
   /// (κ + d/Δtᵢ) JᵀJ + diag(‖G e_j‖): G replaced by the diagonal of its
   /// column norms (Andrews, Teichmann & Kry 2017), PSD by construction.
@@ -92,8 +91,7 @@ struct ConstraintWorkspace {
 
   VectorX g, f, r;
   MatrixX jacobian, hessian;
-  Block curvature;  ///< G, then the projected block (fixed capacity: no allocation)
-  Eigen::SelfAdjointEigenSolver<Block> eigen;
+  Block curvature;  ///< G (fixed capacity: no allocation)
   void Reserve(int maxDimension, int maxDofs);
 };
 }  // namespace internal

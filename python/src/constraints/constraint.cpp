@@ -39,8 +39,8 @@ void DefineConstraint(py::module_& m) {
       .value("GaussNewton", ConstraintHessian::GaussNewton,
              "the reference page's (κ + d/Δt) JᵀJ")
       .value("GeometricStiffness", ConstraintHessian::GeometricStiffness,
-             "(κ + d/Δt) JᵀJ + Σ f_i ∂²g_i/∂q², exact while Newton tries exact Hessians, the block "
-             "clamped to PSD in projected iterations (scene default)")
+             "(κ + d/Δt) JᵀJ + Σ f_i ∂²g_i/∂q², exact while Newton tries exact Hessians, the "
+             "curvature in its diagonal form in projected iterations (scene default)")
       .value("GeometricStiffnessDiagonal", ConstraintHessian::GeometricStiffnessDiagonal,
              "(κ + d/Δt) JᵀJ + diag(column norms of the curvature) (Andrews et al. 2017)");
 
