@@ -68,7 +68,7 @@ bool CheckConstraintHessian(ConstraintHessian hessian, std::string_view field, b
 void ConstraintWorkspace::Reserve(int maxDimension, int maxDofs) {
   g.resize(maxDimension);
   f.resize(maxDimension);
-  r.resize(maxDofs);
+  r.resize(std::max(maxDofs, maxDimension));
   jacobian.resize(maxDimension, maxDofs);
   hessian.resize(maxDofs, maxDofs);
 }
@@ -307,6 +307,12 @@ bool Constraint::BeginStage(real h, real nearRigidBeta, Span<real const> inverse
   // g(qᵢ⁰, p̂ᵢ⁰): the actors are at the stage start, the old target is p̂ᵢ⁰
   Evaluate(oldTarget_, ws);
   stageStartValue_ = ws.g.head(dimension_);
+  linearValue_.resize(dimension_);
+  trialValue_.resize(dimension_);
+  linearJacobian_.resize(dimension_, static_cast<Eigen::Index>(dofs_.size()));
+  forceEstimate_.resize(dimension_);
+  linearActive_ = false;
+  forceEstimateValid_ = false;
   // the near-rigid cap from the stage-start Jacobian (off: k and d as set)
   nearRigidCapped_ = false;
   stageParams_ = params_;
@@ -346,6 +352,13 @@ void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
   auto const g = ws.g.head(m);
   if (isRange_ && internal::IsRangeInactive(g, stageStartValue_)) return;
   auto const jacobian = ws.jacobian.topLeftCorner(m, n);
+  // range types are piecewise in q (one-sided): their curvature keeps f(g)
+  // and they take no part in second-order corrections
+  linearActive_ = !isRange_;
+  if (linearActive_) {
+    linearValue_ = g;
+    linearJacobian_ = jacobian;
+  }
   real const scale =
       internal::CompliantForceCoefficients(stageParams_, g, stageStartValue_, h, ws.f.head(m));
   ws.r.head(n).noalias() = jacobian.transpose() * ws.f.head(m);
@@ -355,9 +368,16 @@ void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
 
   ConstraintHessian const mode = hessian_ == ConstraintHessian::SceneDefault ? sceneHessian : hessian_;
   if (hasCurvature_ && mode != ConstraintHessian::GaussNewton) {
-    // G = Σᵢ fᵢ ∂²gᵢ/∂q², the joint forces' geometric stiffness
+    // G = Σᵢ f̂ᵢ ∂²gᵢ/∂q², the joint forces' geometric stiffness. After the
+    // first step of a stage f̂ is the linearized constraint's force, not f(g):
+    // a step along a curved constraint manifold leaves g with a second-order
+    // error that a stiff k turns into a large, spurious force (and an
+    // indefinite G); f̂ is the estimate a primal–dual Newton method carries.
     ws.curvature.setZero(n, n);
-    DoAddCurvature(target_, ws.f.head(m), ws.curvature);
+    if (forceEstimateValid_)
+      DoAddCurvature(target_, forceEstimate_, ws.curvature);
+    else
+      DoAddCurvature(target_, ws.f.head(m), ws.curvature);
     if (projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal) {
       // PSD: G replaced by the diagonal of its column norms (Andrews et al.)
       for (int j = 0; j < n; ++j) hessian(j, j) += ws.curvature.col(j).norm();
@@ -366,6 +386,32 @@ void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
     }
   }
   assembler.AddBlock(contributor, hessian);
+}
+
+void Constraint::PredictForce(real h, Span<real const> delta, real alpha, bool corrected) {
+  if (!linearActive_) return;
+  int const n = static_cast<int>(dofs_.size());
+  forceEstimate_ = corrected ? trialValue_ : linearValue_;
+  for (int j = 0; j < n; ++j) forceEstimate_ += (alpha * delta[dofs_[j]]) * linearJacobian_.col(j);
+  // f is evaluated in place: CompliantForceCoefficients reads g before it writes f
+  internal::CompliantForceCoefficients(stageParams_, forceEstimate_, stageStartValue_, h, forceEstimate_);
+  forceEstimateValid_ = true;
+}
+
+void Constraint::AddCorrectionForce(real h, Span<real const> delta, Span<real> gradient,
+                                    internal::ConstraintWorkspace& ws) {
+  if (!linearActive_) return;
+  int const m = dimension_, n = static_cast<int>(dofs_.size());
+  Evaluate(target_, ws);
+  trialValue_ = ws.g.head(m);
+  // ws.r ← g + J δ, then f of it; ws.f ← f(g(q + δ)); ws.r ← the difference
+  auto predicted = ws.r.head(m);
+  predicted = linearValue_;
+  for (int j = 0; j < n; ++j) predicted += delta[dofs_[j]] * linearJacobian_.col(j);
+  internal::CompliantForceCoefficients(stageParams_, ws.g.head(m), stageStartValue_, h, ws.f.head(m));
+  internal::CompliantForceCoefficients(stageParams_, predicted, stageStartValue_, h, predicted);
+  ws.f.head(m) -= predicted;
+  for (int j = 0; j < n; ++j) gradient[dofs_[j]] += linearJacobian_.col(j).dot(ws.f.head(m));
 }
 
 void Constraint::EndStage(real h, internal::ConstraintWorkspace& ws) {

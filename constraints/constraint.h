@@ -248,9 +248,24 @@ class Constraint {
   real Energy(real h, internal::ConstraintWorkspace& ws) const;
   /// `sceneHessian` is the scene's choice, used where this constraint's own
   /// is SceneDefault; with `projectHessian` the block is PSD.
+  /// Also records Newton's linearization (g and J here) for the two calls
+  /// below. The geometric stiffness is weighted with the force estimate f̂
+  /// (PredictForce) once one exists in this stage, else with f(g).
   void AddGradientAndHessian(real h, Span<real> gradient, internal::HessianAssembler& assembler,
                              int contributor, ConstraintHessian sceneHessian, bool projectHessian,
                              internal::ConstraintWorkspace& ws) const;
+  /// After the line search accepted α δ (`delta` in global DoF order): the
+  /// force estimate f̂ ← f(g + α J δ), the force of the linearized constraint
+  /// at the new iterate (the multiplier update of a primal–dual Newton step).
+  /// With `corrected`, the step was δ + δc of a second-order correction and
+  /// `delta` is δc: f̂ ← f(g(q + δ) + J δc), the correction's own multiplier.
+  void PredictForce(real h, Span<real const> delta, real alpha, bool corrected = false);
+  /// At a trial configuration q + δ: adds Jᵀ (f(g(q + δ)) − f(g + J δ)) to
+  /// `gradient`, the force of g's second-order error along δ, with J from the
+  /// last linearization (the right-hand side of a second-order correction),
+  /// and records g(q + δ).
+  void AddCorrectionForce(real h, Span<real const> delta, Span<real> gradient,
+                          internal::ConstraintWorkspace& ws);
   void EndStage(real h, internal::ConstraintWorkspace& ws);
 
   ConstraintHandle handle_;
@@ -271,6 +286,15 @@ class Constraint {
   Target target_{};
   Target oldTarget_{};  ///< p̂ᵢ⁰, the target at the stage start
   VectorX stageStartValue_;  ///< g(qᵢ⁰, p̂ᵢ⁰)
+  // Newton's last linearization (sized at BeginStage; a cache the const
+  // assembly writes): g, J, whether the constraint takes part, and the force
+  // estimate f̂ for the curvature
+  mutable VectorX linearValue_;
+  VectorX trialValue_;  ///< g(q + δ) at the last second-order correction
+  mutable MatrixX linearJacobian_;
+  mutable bool linearActive_ = false;
+  VectorX forceEstimate_;
+  bool forceEstimateValid_ = false;
 
   bool forceQueryRegistered_ = false;
   bool forceValid_ = false;

@@ -115,8 +115,11 @@ struct SceneStats {
   /// Newton iterations whose projected step the line search lengthened
   /// (doubled while Eᵢ kept falling along a concave ray: near a saddle)
   int lineSearchExpansions = 0;
+  /// Newton iterations whose full step the line search took with a
+  /// second-order correction for the constraints' curvature
+  int secondOrderCorrections = 0;
   int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
-                                   ///< inexact-Newton re-solves)
+                                   ///< inexact-Newton re-solves and second-order corrections)
   /// Constraints whose k and d the near-rigid cap (NewtonParams::
   /// nearRigidBeta) lowered: the most in any stage of the last step.
   int nearRigidConstraints = 0;

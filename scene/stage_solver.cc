@@ -16,6 +16,8 @@ namespace {
 constexpr real kRoundOffUlps = 64;
 /// Doublings of a projected step on a concave ray (at most 2²⁰ times the step)
 constexpr int kMaxExpansions = 20;
+/// Chord iterations of a second-order correction
+constexpr int kMaxCorrections = 4;
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -56,6 +58,8 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   dofInverseMasses_.setZero(numDofs);
   orderedRhs_.setZero(numDofs);
   orderedSolution_.setZero(numDofs);
+  newtonStep_.setZero(numDofs);
+  correctedStep_.setZero(numDofs);
   stats.patternBuilds = assembler_.GetNumPatternBuilds();
   stats.numDofs = numDofs;
   stats.hessianNonzeros = assembler_.GetMatrix().NumNonzeros();
@@ -167,6 +171,43 @@ real StageSolver::TotalEnergy(DynamicArray<Actor*> const& actors,
   }
   energyScale_ = scale;
   return energy;
+}
+
+bool StageSolver::SecondOrderCorrection(DynamicArray<Actor*> const& actors,
+                                        DynamicArray<Constraint*> const& constraints, real h,
+                                        real energy, real slope, SceneStats& stats,
+                                        real& trialEnergy) {
+  // the actors are at q + δ, δ in delta_. Each correction δc solves
+  // H δc = −Jᵀ (f(g(q + d)) − f(g + J δ)) at the current d = δ + Σ δc with the
+  // factorization of H: a chord iteration back to the linearized constraint
+  // values g + J δ. On success delta_ = d and newtonStep_ = the last δc.
+  newtonStep_ = delta_;
+  correctedStep_ = delta_;
+  Span<real const> const step(newtonStep_.data(), newtonStep_.size());
+  Span<real> gradient(gradient_.data(), gradient_.size());
+  real previousEnergy = trialEnergy;
+  for (int c = 0; c < kMaxCorrections; ++c) {
+    gradient_.setZero();
+    for (Constraint* constraint : constraints)
+      constraint->AddCorrectionForce(h, step, gradient, constraintWorkspace_);
+    if (!SolveNewtonSystem(stats).Ok()) break;
+    correctedStep_ += delta_;
+    Span<real const> const corrected(correctedStep_.data(), correctedStep_.size());
+    for (Actor* actor : actors) actor->ApplyIncrementFromSaved(corrected, 1);
+    real const correctedEnergy = TotalEnergy(actors, constraints, h);
+    real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(correctedEnergy));
+    if (std::isfinite(correctedEnergy) && correctedEnergy <= energy + 1e-4 * slope + allowance) {
+      trialEnergy = correctedEnergy;
+      ++stats.secondOrderCorrections;
+      newtonStep_ = delta_;  // the last δc
+      delta_ = correctedStep_;
+      return true;
+    }
+    if (!(correctedEnergy < previousEnergy)) break;
+    previousEnergy = correctedEnergy;
+  }
+  delta_ = newtonStep_;
+  return false;
 }
 
 real StageSolver::ScaledStepNorm(real h) const {
@@ -313,7 +354,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, 1);
     } else {
       real alpha = 1;
-      bool accepted = false;
+      bool accepted = false, corrected = false;
       real trialEnergy = energy;
       for (int k = 0; k <= newton.maxLineSearchSteps; ++k, alpha *= 0.5) {
         for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, alpha);
@@ -321,6 +362,13 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
         real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(trialEnergy));
         if (std::isfinite(trialEnergy) && trialEnergy <= energy + 1e-4 * alpha * slope + allowance) {
           accepted = true;
+          break;
+        }
+        // a rejected full step first tries its second-order correction
+        // (constraints' curvature, docs/architecture.md)
+        if (k == 0 && !constraints.empty() &&
+            SecondOrderCorrection(actors, constraints, h, energy, slope, stats, trialEnergy)) {
+          accepted = corrected = true;
           break;
         }
       }
@@ -343,7 +391,8 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       // fraction of the way down and Newton crawls away from it by a constant
       // factor per iteration. Such a step is doubled while each doubling
       // decreases Eᵢ further (docs/architecture.md, measurements).
-      if (project && alpha == 1 && std::isfinite(trialEnergy) && trialEnergy < energy + 0.75 * slope) {
+      if (project && !corrected && alpha == 1 && std::isfinite(trialEnergy) &&
+          trialEnergy < energy + 0.75 * slope) {
         for (int k = 0; k < kMaxExpansions; ++k) {
           for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, 2 * alpha);
           real const expandedEnergy = TotalEnergy(actors, constraints, h);
@@ -353,6 +402,13 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
         }
         for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, alpha);
         if (alpha > 1) ++stats.lineSearchExpansions;
+      }
+      // the constraints' force estimates follow the accepted step
+      if (corrected) {
+        Span<real const> const correction(newtonStep_.data(), newtonStep_.size());
+        for (Constraint* constraint : constraints) constraint->PredictForce(h, correction, 1, true);
+      } else {
+        for (Constraint* constraint : constraints) constraint->PredictForce(h, delta, alpha);
       }
       lastChangeUnresolved = std::abs(trialEnergy - energy) <= resolution;
       energy = trialEnergy;

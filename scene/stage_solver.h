@@ -66,6 +66,9 @@ class StageSolver {
   /// maxⱼ ℓⱼ |δⱼ| / h: the step as a velocity of material points (ℓⱼ the
   /// DoF length scales of the actors).
   real ScaledStepNorm(real h) const;
+  bool SecondOrderCorrection(DynamicArray<Actor*> const& actors,
+                             DynamicArray<Constraint*> const& constraints, real h, real energy,
+                             real slope, SceneStats& stats, real& trialEnergy);
 
   HessianAssembler assembler_;
   LinearSolverType requestedSolver_ = LinearSolverType::Auto;
@@ -77,6 +80,7 @@ class StageSolver {
   ConstraintWorkspace constraintWorkspace_;
   DynamicArray<int> firstContributor_;  ///< per actor, then per constraint
   VectorX gradient_, delta_, orderedRhs_, orderedSolution_;
+  VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction
   VectorX dofLengthScales_;  ///< ℓⱼ per DoF (Actor::WriteDofLengthScales)
   VectorX dofInverseMasses_;  ///< 1/M_jj per DoF (Actor::WriteDofInverseMasses), near-rigid cap only
   real energyScale_ = 0;     ///< Σ|terms| of Eᵢ at the last TotalEnergy
