@@ -173,7 +173,9 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   a.jointTarget_ = VectorX::Zero(numDofs);
   a.kinematics_.motion.resize(6, numDofs);
   a.hessian_ = MatrixX::Zero(numDofs, numDofs);
-  a.modifiedFactor_ = Eigen::LDLT<MatrixX>(numDofs);
+  // sized by a factorization (assigning LDLT(n) copies its uninitialized
+  // status flag: undefined behaviour, UBSan)
+  a.modifiedFactor_.compute(MatrixX::Identity(numDofs, numDofs));
   a.modifiedColumn_ = VectorX::Zero(numDofs);
   a.modifiedOrder_.assign(numDofs, 0);
   a.composite_.resize(numLinks);

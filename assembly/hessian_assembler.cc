@@ -106,6 +106,15 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
 
 void HessianAssembler::ZeroValues() { std::fill(matrix_.values.begin(), matrix_.values.end(), 0); }
 
+void HessianAssembler::ShiftDiagonal(real relative) {
+  // upper CSC with sorted rows: a column's diagonal entry is its last
+  for (int j = 0; j < matrix_.size; ++j) {
+    int const last = matrix_.colStart[j + 1] - 1;
+    if (last >= matrix_.colStart[j] && matrix_.rowIndex[last] == j)
+      matrix_.values[last] += relative * std::abs(matrix_.values[last]);
+  }
+}
+
 void HessianAssembler::PermuteToOrdered(Span<real const> natural, Span<real> ordered) const {
   for (std::size_t i = 0; i < permutation_.size(); ++i) ordered[permutation_[i]] = natural[i];
 }

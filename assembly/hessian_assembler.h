@@ -38,6 +38,9 @@ class HessianAssembler {
   std::int64_t GetNumPatternBuilds() const { return numBuilds_; }
 
   void ZeroValues();
+  /// Adds `relative` × |Hⱼⱼ| to every diagonal entry of the assembled values
+  /// (a Levenberg shift, scaled per DoF).
+  void ShiftDiagonal(real relative);
 
   /// Adds the symmetric local block `h` (n×n, n = the contributor's DoF
   /// count, in DoF-list order) of contributor `c`. Reads the upper triangle.

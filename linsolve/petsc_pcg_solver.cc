@@ -443,7 +443,7 @@ LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
   Impl& impl = *impl_;
   PetscScalar* rhs = nullptr;
   SUPERDEX_PETSC(VecGetArrayWrite(impl.rhs, &rhs));
-  std::memcpy(rhs, b.data(), sizeof(real) * b.size());
+  std::copy(b.begin(), b.end(), rhs);  // memcpy with null pointers (n = 0) is undefined
   SUPERDEX_PETSC(VecRestoreArrayWrite(impl.rhs, &rhs));
   SUPERDEX_PETSC(VecPlaceArray(impl.solution, x.data()));
   PetscErrorCode const code = KSPSolve(impl.ksp, impl.rhs, impl.solution);

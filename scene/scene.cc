@@ -546,6 +546,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.projectionFallbacks = 0;
   stats_.roundOffConvergences = 0;
   stats_.lineSearchExpansions = 0;
+  stats_.diagonalShifts = 0;
   stats_.secondOrderCorrections = 0;
   stats_.nearRigidConstraints = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;

@@ -110,6 +110,9 @@ struct SceneStats {
   int newtonIterations = 0;
   int linearIterations = 0;        ///< iterative solvers; 0 for direct ones
   int projectionFallbacks = 0;     ///< Newton iterations re-assembled with projected Hessians
+  /// Refactorizations of a projected Hessian that failed by round-off, with
+  /// its diagonal shifted (1e-8 |Hⱼⱼ|, then ×100 up to 1e-2)
+  int diagonalShifts = 0;
   int roundOffConvergences = 0;    ///< stages that converged on a Newton decrement at the
                                    ///< round-off floor of Eᵢ, not on the step norm
   /// Newton iterations whose projected step the line search lengthened

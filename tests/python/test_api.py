@@ -105,6 +105,7 @@ def test_every_enum_value_is_bound():
     assert hasattr(mochi.SceneStats, "round_off_convergences")
     assert hasattr(mochi.SceneStats, "line_search_expansions")
     assert hasattr(mochi.SceneStats, "second_order_corrections")
+    assert hasattr(mochi.SceneStats, "diagonal_shifts")
     assert mochi.NewtonParams().near_rigid_beta == 0
     assert hasattr(mochi.SceneStats, "near_rigid_constraints")
 

@@ -86,6 +86,9 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("line_search_expansions", &T::lineSearchExpansions,
                     "last step: Newton iterations whose projected step the line search doubled "
                     "while the energy kept falling along a concave ray (near a saddle)")
+      .def_readonly("diagonal_shifts", &T::diagonalShifts,
+                    "last step: refactorizations of a projected Hessian that failed by round-off, "
+                    "with its diagonal shifted")
       .def_readonly("second_order_corrections", &T::secondOrderCorrections,
                     "last step: Newton iterations whose full step the line search took with a "
                     "second-order correction for the constraints' curvature")
