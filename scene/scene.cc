@@ -47,6 +47,19 @@ Scene::~Scene() = default;
 std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
   using namespace internal;
   if (!CheckFinite(params.gravity, "SceneParams.gravity", error)) return nullptr;
+  if (params.integrator != IntegratorType::BackwardEuler && params.integrator != IntegratorType::Bdf2) {
+    error.Set(ErrorCode::InvalidArgument,
+              "SceneParams.integrator must be an IntegratorType, got the value " +
+                  std::to_string(static_cast<int>(params.integrator)));
+    return nullptr;
+  }
+  if (params.ordering != OrderingMethod::Metis && params.ordering != OrderingMethod::Natural &&
+      params.ordering != OrderingMethod::SolverDefault) {
+    error.Set(ErrorCode::InvalidArgument,
+              "SceneParams.ordering must be an OrderingMethod, got the value " +
+                  std::to_string(static_cast<int>(params.ordering)));
+    return nullptr;
+  }
   if (params.newton.maxIterations <= 0) {
     error.Set(ErrorCode::InvalidArgument, "SceneParams.newton.maxIterations must be > 0, got " +
                                                std::to_string(params.newton.maxIterations));

@@ -81,3 +81,28 @@ TEST_CASE("an invalid HessianProjection is refused", "[scene][newton][input]") {
   REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
   REQUIRE(error.GetMessage().find("SceneParams.newton.hessianProjection") != std::string::npos);
 }
+
+TEST_CASE("an integrator or ordering outside its enum is refused, naming the field and value",
+          "[scene][input]") {
+  // issue 15, item 8: both ran as backward Euler / unordered before
+  for (int bad : {-1, 2, 99}) {
+    CAPTURE(bad);
+    SceneParams integrator;
+    integrator.integrator = static_cast<IntegratorType>(bad);
+    Error error;
+    REQUIRE(Scene::Create(integrator, error) == nullptr);
+    CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+    CHECK(error.GetMessage() ==
+          "SceneParams.integrator must be an IntegratorType, got the value " + std::to_string(bad));
+  }
+  for (int bad : {-1, 3, 99}) {
+    CAPTURE(bad);
+    SceneParams ordering;
+    ordering.ordering = static_cast<OrderingMethod>(bad);
+    Error error;
+    REQUIRE(Scene::Create(ordering, error) == nullptr);
+    CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+    CHECK(error.GetMessage() ==
+          "SceneParams.ordering must be an OrderingMethod, got the value " + std::to_string(bad));
+  }
+}
