@@ -85,24 +85,22 @@ TEST_CASE("an invalid HessianProjection is refused", "[scene][newton][input]") {
 TEST_CASE("an integrator or ordering outside its enum is refused, naming the field and value",
           "[scene][input]") {
   // issue 15, item 8: both ran as backward Euler / unordered before
+  auto refused = [](SceneParams const& params, std::string const& expected) {
+    Error error;
+    REQUIRE(Scene::Create(params, error) == nullptr);
+    CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+    CHECK(error.GetMessage() == expected);
+  };
   for (int bad : {-1, 2, 99}) {
     CAPTURE(bad);
-    SceneParams integrator;
-    integrator.integrator = static_cast<IntegratorType>(bad);
-    Error error;
-    REQUIRE(Scene::Create(integrator, error) == nullptr);
-    CHECK(error.GetCode() == ErrorCode::InvalidArgument);
-    CHECK(error.GetMessage() ==
-          "SceneParams.integrator must be an IntegratorType, got the value " + std::to_string(bad));
+    SceneParams params;
+    params.integrator = static_cast<IntegratorType>(bad);
+    refused(params, "SceneParams.integrator must be an IntegratorType, got the value " + std::to_string(bad));
   }
   for (int bad : {-1, 3, 99}) {
     CAPTURE(bad);
-    SceneParams ordering;
-    ordering.ordering = static_cast<OrderingMethod>(bad);
-    Error error;
-    REQUIRE(Scene::Create(ordering, error) == nullptr);
-    CHECK(error.GetCode() == ErrorCode::InvalidArgument);
-    CHECK(error.GetMessage() ==
-          "SceneParams.ordering must be an OrderingMethod, got the value " + std::to_string(bad));
+    SceneParams params;
+    params.ordering = static_cast<OrderingMethod>(bad);
+    refused(params, "SceneParams.ordering must be an OrderingMethod, got the value " + std::to_string(bad));
   }
 }
