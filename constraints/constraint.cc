@@ -388,11 +388,14 @@ void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
   assembler.AddBlock(contributor, hessian);
 }
 
+void Constraint::AddLinearizedChange(Span<real const> delta, real alpha, Eigen::Ref<VectorX> g) const {
+  for (std::size_t j = 0; j < dofs_.size(); ++j) g += (alpha * delta[dofs_[j]]) * linearJacobian_.col(j);
+}
+
 void Constraint::PredictForce(real h, Span<real const> delta, real alpha, bool corrected) {
   if (!linearActive_) return;
-  int const n = static_cast<int>(dofs_.size());
   forceEstimate_ = corrected ? trialValue_ : linearValue_;
-  for (int j = 0; j < n; ++j) forceEstimate_ += (alpha * delta[dofs_[j]]) * linearJacobian_.col(j);
+  AddLinearizedChange(delta, alpha, forceEstimate_);
   // f is evaluated in place: CompliantForceCoefficients reads g before it writes f
   internal::CompliantForceCoefficients(stageParams_, forceEstimate_, stageStartValue_, h, forceEstimate_);
   forceEstimateValid_ = true;
@@ -404,10 +407,10 @@ void Constraint::AddCorrectionForce(real h, Span<real const> delta, Span<real> g
   int const m = dimension_, n = static_cast<int>(dofs_.size());
   Evaluate(target_, ws);
   trialValue_ = ws.g.head(m);
-  // ws.r ← g + J δ, then f of it; ws.f ← f(g(q + δ)); ws.r ← the difference
+  // ws.r ← f(g + J δ), ws.f ← f(g(q + δ)) − ws.r
   auto predicted = ws.r.head(m);
   predicted = linearValue_;
-  for (int j = 0; j < n; ++j) predicted += delta[dofs_[j]] * linearJacobian_.col(j);
+  AddLinearizedChange(delta, 1, predicted);
   internal::CompliantForceCoefficients(stageParams_, ws.g.head(m), stageStartValue_, h, ws.f.head(m));
   internal::CompliantForceCoefficients(stageParams_, predicted, stageStartValue_, h, predicted);
   ws.f.head(m) -= predicted;

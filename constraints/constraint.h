@@ -260,6 +260,8 @@ class Constraint {
   /// With `corrected`, the step was δ + δc of a second-order correction and
   /// `delta` is δc: f̂ ← f(g(q + δ) + J δc), the correction's own multiplier.
   void PredictForce(real h, Span<real const> delta, real alpha, bool corrected = false);
+  /// g += α J δ with J of the last linearization (`delta` in global DoF order).
+  void AddLinearizedChange(Span<real const> delta, real alpha, Eigen::Ref<VectorX> g) const;
   /// At a trial configuration q + δ: adds Jᵀ (f(g(q + δ)) − f(g + J δ)) to
   /// `gradient`, the force of g's second-order error along δ, with J from the
   /// last linearization (the right-hand side of a second-order correction),

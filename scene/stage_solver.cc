@@ -22,6 +22,12 @@ using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
+/// Armijo's sufficient decrease (c = 1e-4) for a step of α along a direction
+/// of slope ∇E·δ, with a round-off allowance of 1e-12 |E|
+bool SufficientDecrease(real energy, real trialEnergy, real alpha, real slope) {
+  real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(trialEnergy));
+  return std::isfinite(trialEnergy) && trialEnergy <= energy + 1e-4 * alpha * slope + allowance;
+}
 std::string Where(int stageIndex, int iteration) {
   return "stage " + std::to_string(stageIndex) + ", Newton iteration " + std::to_string(iteration);
 }
@@ -195,8 +201,7 @@ bool StageSolver::SecondOrderCorrection(DynamicArray<Actor*> const& actors,
     Span<real const> const corrected(correctedStep_.data(), correctedStep_.size());
     for (Actor* actor : actors) actor->ApplyIncrementFromSaved(corrected, 1);
     real const correctedEnergy = TotalEnergy(actors, constraints, h);
-    real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(correctedEnergy));
-    if (std::isfinite(correctedEnergy) && correctedEnergy <= energy + 1e-4 * slope + allowance) {
+    if (SufficientDecrease(energy, correctedEnergy, 1, slope)) {
       trialEnergy = correctedEnergy;
       ++stats.secondOrderCorrections;
       newtonStep_ = delta_;  // the last δc
@@ -375,8 +380,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       for (int k = 0; k <= newton.maxLineSearchSteps; ++k, alpha *= 0.5) {
         for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, alpha);
         trialEnergy = TotalEnergy(actors, constraints, h);
-        real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(trialEnergy));
-        if (std::isfinite(trialEnergy) && trialEnergy <= energy + 1e-4 * alpha * slope + allowance) {
+        if (SufficientDecrease(energy, trialEnergy, alpha, slope)) {
           accepted = true;
           break;
         }
