@@ -195,6 +195,14 @@ LinearSolveResult LinearSolver::Factorize(SparseSymmetricMatrix const& a) {
 }
 
 LinearSolveResult LinearSolver::Solve(Span<real const> b, Span<real> x) {
+  return CheckedSolve(b, x, false);
+}
+
+LinearSolveResult LinearSolver::Resume(Span<real const> b, Span<real> x) {
+  return CheckedSolve(b, x, true);
+}
+
+LinearSolveResult LinearSolver::CheckedSolve(Span<real const> b, Span<real> x, bool resume) {
   if (!factorized_) {
     return MakeFailure(LinearSolveStatus::InvalidState,
                        analyzed_
@@ -226,8 +234,14 @@ LinearSolveResult LinearSolver::Solve(Span<real const> b, Span<real> x) {
                        "Solve: b[" + std::to_string(i) + "] is not finite: " + FormatReal(b[i]));
   }
 
-  LinearSolveResult result = DoSolve(b, x);
-  if (!result.Ok()) return result;
+  if (resume) {
+    if (std::ptrdiff_t const i = FirstNonFinite(Span<real const>(x.data(), x.size())); i >= 0) {
+      return MakeFailure(LinearSolveStatus::InvalidInput,
+                         "Resume: x[" + std::to_string(i) + "] is not finite: " + FormatReal(x[i]));
+    }
+  }
+  LinearSolveResult result = resume ? DoResume(b, x) : DoSolve(b, x);
+  if (!result.Ok() && !result.truncated) return result;
   // a finite, positive definite factor can still overflow on a nearly
   // singular matrix; report it rather than hand back inf or NaN
   if (std::ptrdiff_t const i = FirstNonFinite(Span<real const>(x.data(), x.size())); i >= 0) {

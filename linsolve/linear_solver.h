@@ -51,7 +51,8 @@ std::string_view ToString(PcgPreconditioner preconditioner);
 
 /// Settings of the PETSc PCG backend. CG stops when ‖r‖₂ <= max(rtol ‖b‖₂, atol)
 /// (PETSc's default test with a zero initial guess) or after maxIterations
-/// iterations, which is reported as not converged.
+/// iterations, which is reported as not converged (truncated: Newton takes
+/// such a solve as an inexact step when `truncatedSteps` is set).
 struct PcgParams {
   PcgPreconditioner preconditioner = PcgPreconditioner::Gamg;
   real relativeTolerance = 1e-8;   ///< rtol, in (0, 1)
@@ -63,6 +64,13 @@ struct PcgParams {
   /// relativeTolerance before it accepts convergence.
   bool adaptiveTolerance = false;
   real adaptiveMaxTolerance = 0.5;  ///< in [relativeTolerance, 1)
+  /// Truncated Newton: a solve stopped at maxIterations is taken as an
+  /// inexact Newton step when it is a descent direction (a CG iterate from
+  /// zero on a positive definite matrix always is), the line search judging
+  /// it; such a step never ends Newton: one that looks converged is resumed
+  /// (LinearSolver::Resume) until it meets relativeTolerance. Off: the cap
+  /// fails the solve, and the step (LinearSolverFailed).
+  bool truncatedSteps = true;
   /// The preconditioner is rebuilt at every `preconditionerLag`-th Factorize
   /// and reused (with the new matrix values in CG) in between; 1 = always
   /// rebuilt. >= 1.
@@ -110,6 +118,9 @@ struct LinearSolveResult {
   int failingColumn = -1;      ///< kNotPositiveDefinite: column in the matrix's (given) order
   int iterations = 0;          ///< iterative backends; 0 for direct ones
   real relativeResidual = 0;   ///< ‖Ax − b‖/‖b‖ when the backend computes it, else 0
+  /// kNotConverged at the iteration cap (nothing else went wrong): x holds
+  /// the last iterate, finite, which Newton may take as an inexact step
+  bool truncated = false;
   std::string reason;          ///< human-readable cause when status != kOk
 
   bool Ok() const { return status == LinearSolveStatus::Ok; }
@@ -141,6 +152,11 @@ class LinearSolver {
   /// A.size entries, b and x overlap, or b is not finite; kBackendError if
   /// the solution overflows.
   LinearSolveResult Solve(Span<real const> b, Span<real> x);
+  /// Solve that starts from x instead of zero: iterative backends continue
+  /// from a truncated (or looser-tolerance) solution, with the iteration cap
+  /// and the tolerance counted afresh against b; direct backends solve anew.
+  /// Same checks and results as Solve.
+  LinearSolveResult Resume(Span<real const> b, Span<real> x);
 
   bool IsAnalyzed() const { return analyzed_; }
   std::uint64_t GetAnalyzedPatternVersion() const { return analyzedVersion_; }
@@ -172,8 +188,11 @@ class LinearSolver {
   virtual LinearSolveResult DoAnalyze(SparseSymmetricMatrix const& a) = 0;
   virtual LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) = 0;
   virtual LinearSolveResult DoSolve(Span<real const> b, Span<real> x) = 0;
+  virtual LinearSolveResult DoResume(Span<real const> b, Span<real> x) { return DoSolve(b, x); }
 
  private:
+  LinearSolveResult CheckedSolve(Span<real const> b, Span<real> x, bool resume);
+
   bool analyzed_ = false;
   bool factorized_ = false;
   int size_ = 0;

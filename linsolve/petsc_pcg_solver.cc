@@ -470,6 +470,7 @@ LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
     // from it) is not positive definite, which Newton answers by projection
     bool const indefinite = reason == KSP_DIVERGED_INDEFINITE_MAT || reason == KSP_DIVERGED_INDEFINITE_PC;
     result.status = indefinite ? LinearSolveStatus::NotPositiveDefinite : LinearSolveStatus::NotConverged;
+    result.truncated = reason == KSP_DIVERGED_ITS;
     result.reason = "PETSc CG + " + std::string(ToString(params_.preconditioner)) +
                     " did not converge: KSP_" + KSPConvergedReasons[reason] + detail;
     if (reason == KSP_DIVERGED_PC_FAILED) {
@@ -480,6 +481,13 @@ LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
       result.reason += std::string(" (PC_") + PCFailedReasons[failed] + ")";
     }
   }
+  return result;
+}
+
+LinearSolveResult PetscPcgSolver::DoResume(Span<real const> b, Span<real> x) {
+  SUPERDEX_PETSC(KSPSetInitialGuessNonzero(impl_->ksp, PETSC_TRUE));
+  LinearSolveResult result = DoSolve(b, x);
+  SUPERDEX_PETSC(KSPSetInitialGuessNonzero(impl_->ksp, PETSC_FALSE));
   return result;
 }
 

@@ -68,6 +68,7 @@ class PetscPcgSolver final : public LinearSolver {
   LinearSolveResult DoAnalyze(SparseSymmetricMatrix const& a) override;
   LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) override;
   LinearSolveResult DoSolve(Span<real const> b, Span<real> x) override;
+  LinearSolveResult DoResume(Span<real const> b, Span<real> x) override;
 
  private:
   struct Impl;  // the PETSc objects (petsc_pcg_solver.cc)

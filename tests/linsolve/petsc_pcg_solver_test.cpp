@@ -56,6 +56,10 @@ TEST_CASE("PCG reports non-convergence with PETSc's reason", "[linsolve][pcg]") 
     REQUIRE(result.relativeResidual > params.relativeTolerance);
     REQUIRE(Contains(result.reason, "KSP_DIVERGED_ITS"));
     REQUIRE(Contains(result.reason, "Jacobi"));
+    // the cap truncates: x is the last iterate, which Newton may step with
+    REQUIRE(result.truncated);
+    REQUIRE(RelativeResidual(a, x, b) == Approx(result.relativeResidual).epsilon(1e-6));
+    REQUIRE(result.relativeResidual < 1);
   }
   SECTION("indefinite matrix") {
     // a negative diagonal entry in a diagonally dominant matrix: the Jacobi
@@ -69,7 +73,42 @@ TEST_CASE("PCG reports non-convergence with PETSc's reason", "[linsolve][pcg]") 
     REQUIRE(result.status == LinearSolveStatus::NotPositiveDefinite);
     REQUIRE(result.failingColumn == -1);  // CG cannot say where
     REQUIRE(Contains(result.reason, "KSP_DIVERGED_INDEFINITE"));
+    REQUIRE_FALSE(result.truncated);
   }
+}
+
+TEST_CASE("Resume continues a truncated PCG solve from its last iterate", "[linsolve][pcg]") {
+  SparseSymmetricMatrix const a = Laplacian3d(10, 1e-4);
+  VectorX const b = TestRhs(a.size);
+  PcgParams params = WithPreconditioner(PcgPreconditioner::Jacobi);
+  params.maxIterations = 20;  // the full solve needs ~100
+  auto solver = MakePcg(params);
+  REQUIRE(solver->Analyze(a).Ok());
+  REQUIRE(solver->Factorize(a).Ok());
+
+  VectorX x(a.size);
+  LinearSolveResult result = solver->Solve(View(b), View(x));
+  REQUIRE(result.truncated);
+  // each resumption starts where the last stopped: the residual falls
+  // monotonically across resumptions, and the last meets the tolerance
+  int resumptions = 0;
+  real residual = result.relativeResidual;
+  while (result.truncated && resumptions < 50) {
+    result = solver->Resume(View(b), View(x));
+    ++resumptions;
+    CAPTURE(resumptions, result.relativeResidual, residual);
+    REQUIRE(result.relativeResidual < residual);
+    residual = result.relativeResidual;
+  }
+  REQUIRE(result.Ok());
+  REQUIRE(resumptions >= 2);
+  REQUIRE(RelativeResidual(a, x, b) <= 2 * params.relativeTolerance);
+
+  // a non-finite starting point is refused, naming the entry
+  x[7] = std::numeric_limits<real>::quiet_NaN();
+  result = solver->Resume(View(b), View(x));
+  REQUIRE(result.status == LinearSolveStatus::InvalidInput);
+  REQUIRE(Contains(result.reason, "x[7]"));
 }
 
 TEST_CASE("PCG creates its PETSc objects once per Analyze", "[linsolve][pcg]") {
