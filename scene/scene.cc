@@ -561,6 +561,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.lineSearchExpansions = 0;
   stats_.diagonalShifts = 0;
   stats_.secondOrderCorrections = 0;
+  stats_.truncatedSolves = 0;
   stats_.nearRigidConstraints = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;

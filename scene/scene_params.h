@@ -121,6 +121,9 @@ struct SceneStats {
   /// Newton iterations whose full step the line search took with a
   /// second-order correction for the constraints' curvature
   int secondOrderCorrections = 0;
+  /// PCG solves stopped at PcgParams::maxIterations that Newton took as
+  /// inexact steps (PcgParams::truncatedSteps)
+  int truncatedSolves = 0;
   int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
                                    ///< inexact-Newton re-solves and second-order corrections)
   /// Constraints whose k and d the near-rigid cap (NewtonParams::

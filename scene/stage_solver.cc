@@ -129,20 +129,30 @@ bool StageSolver::EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneSta
   return true;
 }
 
-LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats) {
+LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats, bool resume) {
   auto const start = Clock::now();
   Span<real const> const gradient(gradient_.data(), gradient_.size());
   assembler_.PermuteToOrdered(gradient, Span<real>(orderedRhs_.data(), orderedRhs_.size()));
   orderedRhs_ = -orderedRhs_;
-  LinearSolveResult result =
-      solver_->Solve(Span<real const>(orderedRhs_.data(), orderedRhs_.size()),
-                     Span<real>(orderedSolution_.data(), orderedSolution_.size()));
+  Span<real const> const rhs(orderedRhs_.data(), orderedRhs_.size());
+  Span<real> const solution(orderedSolution_.data(), orderedSolution_.size());
+  LinearSolveResult result = resume ? solver_->Resume(rhs, solution) : solver_->Solve(rhs, solution);
   assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), orderedSolution_.size()),
                               Span<real>(delta_.data(), delta_.size()));
   stats.solveSeconds += SecondsSince(start);
   stats.linearIterations += result.iterations;
   ++stats.linearSolves;
   return result;
+}
+
+bool StageSolver::Usable(LinearSolveResult const& result) const {
+  return result.Ok() || (result.truncated && pcg_.truncatedSteps);
+}
+
+bool StageSolver::TakeTruncated(LinearSolveResult const& result, SceneStats& stats) const {
+  bool const take = !result.Ok() && Usable(result) && gradient_.dot(delta_) < 0;
+  if (take) ++stats.truncatedSolves;
+  return take;
 }
 
 real StageSolver::ForcingTerm(int iteration, real gradientNorm) {
@@ -252,6 +262,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
   Span<real> gradient(gradient_.data(), gradient_.size());
   int const numConstraintsStart = static_cast<int>(actors.size());
   real lastStepNorm = 0;
+  int const truncatedBefore = stats.truncatedSolves;
   bool lastChangeUnresolved = false;  ///< the last accepted step changed Eᵢ below its resolution
   for (int iteration = 1; iteration <= newton.maxIterations; ++iteration) {
     ++stats.newtonIterations;
@@ -296,7 +307,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
         forcingSet = true;
       }
       if (result.Ok()) result = SolveNewtonSystem(stats);
-      bool const notDescent = result.Ok() && !(gradient_.dot(delta_) < 0);
+      bool const notDescent = Usable(result) && !(gradient_.dot(delta_) < 0);
       if (project || (result.status != LinearSolveStatus::NotPositiveDefinite && !notDescent))
         break;
       project = true;
@@ -322,37 +333,19 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       result.status = LinearSolveStatus::BackendError;
       result.reason = "failure injected by a test";
     }
-    if (!result.Ok()) {
-      std::string detail = result.reason;
-      if (result.status == LinearSolveStatus::NotPositiveDefinite && result.failingColumn >= 0)
-        detail = "matrix not positive definite at column " + std::to_string(result.failingColumn);
+    auto const linearSolverFailed = [&](LinearSolveResult const& failed) {
+      std::string detail = failed.reason;
+      if (failed.status == LinearSolveStatus::NotPositiveDefinite && failed.failingColumn >= 0)
+        detail = "matrix not positive definite at column " + std::to_string(failed.failingColumn);
       error.Set(ErrorCode::LinearSolverFailed, Where(stageIndex, iteration) + ": linear solver " +
                                                     solver_->GetDescription() + " failed (" +
-                                                    std::string(ToString(result.status)) + "): " + detail);
+                                                    std::string(ToString(failed.status)) + "): " + detail);
       return false;
-    }
-
-    // velocity-scaled step norm; an inexact step that looks converged is
-    // recomputed at the full tolerance before it may end Newton
-    real stepNorm = ScaledStepNorm(h);
-    lastStepNorm = stepNorm;
-    if (inexact && stepNorm <= newton.velocityTolerance && forcingTerm > pcg_.relativeTolerance) {
-      solver_->SetRelativeTolerance(pcg_.relativeTolerance);
-      result = SolveNewtonSystem(stats);
-      if (!result.Ok()) {
-        error.Set(ErrorCode::LinearSolverFailed, Where(stageIndex, iteration) + ": linear solver " +
-                                                      solver_->GetDescription() + " failed (" +
-                                                      std::string(ToString(result.status)) +
-                                                      "): " + result.reason);
-        return false;
-      }
-      stepNorm = ScaledStepNorm(h);
-      lastStepNorm = stepNorm;
-    }
-    if (!std::isfinite(stepNorm)) {
-      error.Set(ErrorCode::NonFiniteState, Where(stageIndex, iteration) + ": the Newton step is not finite");
-      return false;
-    }
+    };
+    // a CG solve stopped at its cap is an inexact Newton step (truncated
+    // Newton) when it descends; the line search judges it
+    bool truncated = TakeTruncated(result, stats);
+    if (!result.Ok() && !truncated) return linearSolverFailed(result);
 
     // Converged when the step, scaled to the velocity of material points, is
     // below the tolerance (rotations count by the motion of the body's rms
@@ -363,10 +356,38 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     // search can tell the iterate from the minimum. Such a step is taken
     // whole. Larger steps get a backtracking line search on Eᵢ (Armijo,
     // c = 1e-4, with a round-off allowance of 1e-12 |E|).
-    real const slope = gradient_.dot(delta_);
+    // A step from a looser solve (the inexact-Newton forcing term, or
+    // truncated at the PCG cap) that looks converged is first resumed from
+    // where it stopped, at the full tolerance; still truncated when the
+    // resumptions stop gaining, it is taken but does not end Newton.
     real const resolution = kRoundOffUlps * std::numeric_limits<real>::epsilon() * energyScale_;
-    bool const stepConverged = stepNorm <= newton.velocityTolerance;
-    bool const converged = stepConverged || (lastChangeUnresolved && -slope <= resolution);
+    real stepNorm = 0, slope = 0;
+    bool stepConverged = false, stalled = false;
+    auto const judge = [&] {
+      stepNorm = lastStepNorm = ScaledStepNorm(h);
+      slope = gradient_.dot(delta_);
+      stepConverged = stepNorm <= newton.velocityTolerance;
+      stalled = lastChangeUnresolved && -slope <= resolution;
+    };
+    judge();
+    // resumed again while it stays truncated and each resumption at least
+    // halves the residual (restarted CG still converges, more slowly)
+    bool loose = truncated || (inexact && forcingTerm > pcg_.relativeTolerance);
+    while (loose && (stepConverged || stalled)) {
+      real const previousResidual = result.relativeResidual;
+      if (inexact) solver_->SetRelativeTolerance(pcg_.relativeTolerance);
+      result = SolveNewtonSystem(stats, /*resume=*/true);
+      truncated = TakeTruncated(result, stats);
+      if (!result.Ok() && !truncated) return linearSolverFailed(result);
+      judge();
+      loose = truncated && result.relativeResidual <= 0.5 * previousResidual;
+    }
+    if (!std::isfinite(stepNorm)) {
+      error.Set(ErrorCode::NonFiniteState, Where(stageIndex, iteration) + ": the Newton step is not finite");
+      return false;
+    }
+
+    bool const converged = !truncated && (stepConverged || stalled);
     if (converged && !stepConverged) ++stats.roundOffConvergences;
     auto const start = Clock::now();
     for (Actor* actor : actors) actor->SaveIterate();
@@ -447,12 +468,17 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       return true;
     }
   }
+  std::string truncation;
+  if (int const stageTruncated = stats.truncatedSolves - truncatedBefore; stageTruncated > 0)
+    truncation = "; " + std::to_string(stageTruncated) + " linear solves stopped at the PCG cap of " +
+                 std::to_string(pcg_.maxIterations) +
+                 " iterations (PcgParams::maxIterations)";
   error.Set(ErrorCode::NewtonFailed,
             Where(stageIndex, newton.maxIterations) + ": Newton did not converge within " +
                 std::to_string(newton.maxIterations) + " iterations (gradient norm " +
                 Format(stats.gradientNorm) + ", tolerance " +
                 Format(newton.velocityTolerance) + " on the velocity-scaled step, last step " +
-                Format(lastStepNorm) + ")");
+                Format(lastStepNorm) + ")" + truncation);
   return false;
 }
 

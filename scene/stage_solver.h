@@ -58,7 +58,13 @@ class StageSolver {
   bool EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneStats& stats, Error& error);
   /// H δ = −∇E with the current factorization/set-up: permutes the gradient,
   /// solves, permutes δ back; adds the solve time and iterations to `stats`.
-  LinearSolveResult SolveNewtonSystem(SceneStats& stats);
+  LinearSolveResult SolveNewtonSystem(SceneStats& stats, bool resume = false);
+  /// A solve Newton can step with: converged, or truncated at the PCG cap
+  /// with PcgParams::truncatedSteps on.
+  bool Usable(LinearSolveResult const& result) const;
+  /// True (and counted) when `result` is a truncated solve whose step
+  /// delta_ descends.
+  bool TakeTruncated(LinearSolveResult const& result, SceneStats& stats) const;
   /// The inexact-Newton forcing term for this iteration (Eisenstat–Walker
   /// choice 2, safeguarded), from the gradient norms of this and the last
   /// iteration; `iteration` is 1-based.

@@ -106,6 +106,9 @@ def test_every_enum_value_is_bound():
     assert hasattr(mochi.SceneStats, "line_search_expansions")
     assert hasattr(mochi.SceneStats, "second_order_corrections")
     assert hasattr(mochi.SceneStats, "diagonal_shifts")
+    assert hasattr(mochi.SceneStats, "truncated_solves")
+    assert mochi.PcgParams().truncated_steps is True
+    assert mochi.PcgParams(truncated_steps=False).truncated_steps is False
     assert mochi.NewtonParams().near_rigid_beta == 0
     assert hasattr(mochi.SceneStats, "near_rigid_constraints")
 

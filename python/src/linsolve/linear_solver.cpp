@@ -33,7 +33,7 @@ void DefineLinearSolver(py::module_& m) {
   ParamsClass<P>(
       m, "PcgParams",
       "Settings of the PETSc PCG backend. CG stops when ||r|| <= max(rtol ||b||, atol) or after "
-      "max_iterations (reported as not converged).")
+      "max_iterations (reported as not converged; Newton may take it as a truncated step).")
       .Field("preconditioner", &P::preconditioner, "PcgPreconditioner, default Gamg")
       .Field("relative_tolerance", &P::relativeTolerance, "rtol, in (0, 1), default 1e-8")
       .Field("absolute_tolerance", &P::absoluteTolerance, "atol >= 0, default 1e-50")
@@ -43,6 +43,9 @@ void DefineLinearSolver(py::module_& m) {
              "relative_tolerance before convergence is accepted")
       .Field("adaptive_max_tolerance", &P::adaptiveMaxTolerance,
              "in [relative_tolerance, 1), default 0.5")
+      .Field("truncated_steps", &P::truncatedSteps,
+             "truncated Newton: a solve stopped at max_iterations is taken as an inexact step "
+             "when it descends (never one that ends Newton); off: the cap fails the step")
       .Field("preconditioner_lag", &P::preconditionerLag,
              "the preconditioner is rebuilt every preconditioner_lag-th factorization, >= 1")
       .Field("reuse_amg_interpolation", &P::reuseAmgInterpolation,

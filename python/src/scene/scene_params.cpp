@@ -92,6 +92,9 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("second_order_corrections", &T::secondOrderCorrections,
                     "last step: Newton iterations whose full step the line search took with a "
                     "second-order correction for the constraints' curvature")
+      .def_readonly("truncated_solves", &T::truncatedSolves,
+                    "last step: PCG solves stopped at max_iterations that Newton took as inexact "
+                    "steps (PcgParams.truncated_steps)")
       .def_readonly("linear_solves", &T::linearSolves, "last step")
       .def_readonly("near_rigid_constraints", &T::nearRigidConstraints,
                     "last step: constraints whose k and d the near-rigid cap lowered (the most in "
