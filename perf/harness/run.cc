@@ -279,7 +279,7 @@ bool MethodAvailable(std::string_view label, std::string& why) {
 std::array<std::string_view, kNumColumns> const kColumnNames{
     "suite", "study", "family", "size", "dofs", "material", "stiffness_ratio", "method", "solver",
     "preconditioner", "rtol", "newton_tol", "constraint_hessian", "near_rigid", "integrator", "dt", "steps",
-    "end_time", "newton_iterations", "linear_iterations", "linear_solves", "near_rigid_capped", "pattern_builds",
+    "end_time", "newton_iterations", "linear_iterations", "linear_solves", "truncated_solves", "near_rigid_capped", "pattern_builds",
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
     "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
     "total_s", "peak_rss_mb", "error", "reference", "joint_drift", "energy_gain", "status",
@@ -390,7 +390,7 @@ bool RmsError(DynamicArray<Real3> const& x, DynamicArray<Real3> const& reference
 
 /// The figures summed over the steps of a run.
 struct Totals {
-  long long newton = 0, linearIterations = 0, linearSolves = 0;
+  long long newton = 0, linearIterations = 0, linearSolves = 0, truncatedSolves = 0;
   int nearRigidCapped = 0;  ///< the most constraints the near-rigid cap lowered in a step
   double analysis = 0, assembly = 0, factorization = 0, solve = 0, lineSearch = 0, step = 0;
 
@@ -398,6 +398,7 @@ struct Totals {
     newton += s.newtonIterations;
     linearIterations += s.linearIterations;
     linearSolves += s.linearSolves;
+    truncatedSolves += s.truncatedSolves;
     nearRigidCapped = std::max(nearRigidCapped, s.nearRigidConstraints);
     analysis += s.analysisSeconds;
     assembly += s.assemblySeconds;
@@ -420,6 +421,7 @@ void FillMeasured(Row& row, Totals const& t, int steps, SceneStats const& s) {
   row[kNewtonIterations] = Cell(t.newton);
   row[kLinearIterations] = Cell(t.linearIterations);
   row[kLinearSolves] = Cell(t.linearSolves);
+  row[kTruncatedSolves] = Cell(t.truncatedSolves);
   row[kNearRigidCapped] = Cell(t.nearRigidCapped);
   row[kNnzH] = Cell(s.hessianNonzeros);
   if (s.factorNonzeros > 0) row[kNnzL] = Cell(s.factorNonzeros, 9);
