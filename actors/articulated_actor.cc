@@ -118,9 +118,24 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
           return nullptr;
         }
     }
+    // a rotation vector whose norm overflows has no angle (Exp gives NaN)
+    int const rotationStart = p.joint == JointType::Spherical ? 0 : p.joint == JointType::Free ? 3 : -1;
+    if (rotationStart >= 0 && !p.initialPosition.empty()) {
+      Real3 const phi(p.initialPosition[rotationStart], p.initialPosition[rotationStart + 1],
+                      p.initialPosition[rotationStart + 2]);
+      if (!std::isfinite(phi.norm())) {
+        error.Set(ErrorCode::InvalidArgument,
+                  LinkField(i, "initialPosition") + "[" + std::to_string(rotationStart) + ".." +
+                      std::to_string(rotationStart + 2) + "] = " + Format(phi) +
+                      " is a rotation vector whose angle (its norm) overflows; give the angle in radians");
+        return nullptr;
+      }
+    }
     l.parent = p.parent;
     l.joint = p.joint;
-    l.axis = p.axis.norm() > 0 ? Real3(p.axis.normalized()) : Real3::UnitZ();
+    // scaled first, so that an axis like 1e200 does not overflow its norm
+    real const axisScale = p.axis.cwiseAbs().maxCoeff();
+    l.axis = axisScale > 0 ? Real3((p.axis / axisScale).normalized()) : Real3::UnitZ();
     l.parentToJointPosition = p.parentToJointPosition;
     l.parentToJointRotation = p.parentToJointRotation.normalized();
     l.jointToChildPosition = p.jointToChildPosition;
@@ -183,6 +198,14 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   a.forceMoment_.resize(numLinks);
   // link poses and velocities from the joints: v_c = Σ (v_k + ω_k × c) q̇_k
   a.ComputeKinematics(s.joints, a.kinematics_);
+  for (int i = 0; i < numLinks; ++i)
+    if (!a.kinematics_.com[i].allFinite() || !a.kinematics_.linkRotation[i].coeffs().allFinite()) {
+      error.Set(ErrorCode::InvalidArgument,
+                "ArticulatedActorParams.links[" + std::to_string(i) +
+                    "]: the link's initial pose overflows (centre of mass " + Format(a.kinematics_.com[i]) +
+                    ") from the initialPosition and offsets of its joint and its ancestors' joints");
+      return nullptr;
+    }
   s.links.resize(numLinks);
   for (int i = 0; i < numLinks; ++i) {
     internal::RigidBodyMotion& m = s.links[i];

@@ -116,12 +116,27 @@ std::unique_ptr<DeformableActor> DeformableActor::Create(DeformableActorParams c
                         a.hingeRest_[e]);
     }
   }
-  for (int i = 0; i < numNodes; ++i)
-    if (a.mass_[i] <= 0) {
+  DynamicArray<char> used(numNodes, 0);
+  for (auto const& t : a.tetrahedra_)
+    for (int node : t) used[node] = 1;
+  for (auto const& t : a.triangles_)
+    for (int node : t) used[node] = 1;
+  for (int i = 0; i < numNodes; ++i) {
+    if (!used[i]) {
       error.Set(ErrorCode::InvalidArgument, "DeformableActorParams.nodes[" + std::to_string(i) +
                                                 "] belongs to no element (it would have no mass)");
       return nullptr;
     }
+    if (!(std::isfinite(a.mass_[i]) && a.mass_[i] > 0)) {
+      // density × volume (or × thickness × area) under- or overflowed
+      error.Set(ErrorCode::InvalidArgument,
+                "DeformableActorParams.nodes[" + std::to_string(i) + "] gets mass " + Format(a.mass_[i]) +
+                    " from density " + Format(params.density) +
+                    (a.triangles_.empty() ? std::string() : " (thickness " + Format(params.thickness) + ")") +
+                    " and its elements' volumes: it must be finite and > 0 (are the units right?)");
+      return nullptr;
+    }
+  }
 
   // state
   Quat const toLocal = a.transformRotation_.conjugate();

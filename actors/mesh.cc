@@ -1,14 +1,17 @@
 #include <superdex/actors/mesh.h>
 #include <superdex/core/validate.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <charconv>
 #include <climits>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <string_view>
 #include <tuple>
@@ -20,6 +23,10 @@ namespace {
 
 // ------------------------------------------------------------ text parsing
 
+/// A reader reads a file that is not a regular file (a pipe, a device such as
+/// /dev/zero) up to this many bytes, then fails.
+constexpr std::size_t kMaxStreamBytes = std::size_t(256) << 20;
+
 /// The lines of a text file, read whole, with a cursor over its non-blank
 /// lines. Each line has its comment (from `comment` to the end) removed and
 /// is split into whitespace-separated tokens. Errors are reported as
@@ -27,24 +34,48 @@ namespace {
 class LineReader {
  public:
   /// Reads the file; InvalidState naming the file when it cannot be read.
+  /// Never throws: plain POSIX reads, a regular file up to its size, any
+  /// other file (pipe, device) up to kMaxStreamBytes.
   bool Open(std::string const& path, char comment, Error& error) {
     path_ = path;
     comment_ = comment;
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) {
-      error.Set(ErrorCode::InvalidState, path + ": cannot open file: it is a directory");
+    auto const fail = [&](std::string const& what) {
+      error.Set(ErrorCode::InvalidState, path + ": " + what);
       return false;
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-      error.Set(ErrorCode::InvalidState,
-                path + ": cannot open file for reading (" + std::strerror(errno) + ")");
-      return false;
-    }
-    text_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (in.bad()) {
-      error.Set(ErrorCode::InvalidState, path + ": read error");
-      return false;
+    };
+    // non-blocking open: a FIFO without a writer must not hang the caller
+    int const fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return fail(std::string("cannot open file for reading (") + std::strerror(errno) + ")");
+    struct Closer {
+      int fd;
+      ~Closer() { ::close(fd); }
+    } const closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0)
+      return fail(std::string("cannot open file for reading (") + std::strerror(errno) + ")");
+    if (S_ISDIR(st.st_mode)) return fail("cannot open file: it is a directory");
+    int const flags = ::fcntl(fd, F_GETFL);
+    if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    bool const regular = S_ISREG(st.st_mode);
+    std::size_t const limit = regular ? static_cast<std::size_t>(st.st_size) : kMaxStreamBytes;
+    try {
+      text_.clear();
+      if (regular) text_.reserve(limit);
+      std::array<char, 1 << 16> buffer;
+      for (;;) {
+        ssize_t const n = ::read(fd, buffer.data(), buffer.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return fail(std::string("read error (") + std::strerror(errno) + ")");
+        if (n == 0) break;
+        if (!regular && text_.size() + static_cast<std::size_t>(n) > limit)
+          return fail("read stopped after " + std::to_string(limit >> 20) +
+                      " MiB: a file that is not a regular file (a pipe or device) is read up to that size");
+        text_.append(buffer.data(), static_cast<std::size_t>(n));
+      }
+    } catch (std::bad_alloc const&) {
+      text_.clear();
+      text_.shrink_to_fit();
+      return fail("out of memory reading " + std::to_string(limit >> 20) + " MiB");
     }
     return true;
   }
@@ -629,6 +660,25 @@ bool ValidateMesh(char const* meshName, char const* elementsName, DynamicArray<R
       return false;
     }
   }
+  // an element listed twice (in any node order) would count its mass and
+  // stiffness twice: sort each element's nodes, then the elements
+  DynamicArray<std::pair<std::array<int, N>, int>> sorted(elements.size());
+  for (size_t e = 0; e < elements.size(); ++e) {
+    sorted[e] = {elements[e], static_cast<int>(e)};
+    std::sort(sorted[e].first.begin(), sorted[e].first.end());
+  }
+  std::sort(sorted.begin(), sorted.end());
+  for (size_t i = 1; i < sorted.size(); ++i)
+    if (sorted[i].first == sorted[i - 1].first) {
+      int const first = sorted[i - 1].second, second = sorted[i].second;
+      std::string nodesText;
+      for (int n : elements[second]) nodesText += (nodesText.empty() ? "" : ", ") + std::to_string(n);
+      error.Set(ErrorCode::InvalidArgument,
+                mesh + "." + elementsName + "[" + std::to_string(second) + "] = {" + nodesText + "} repeats " +
+                    elementsName + "[" + std::to_string(first) +
+                    "] (the same nodes): its mass and stiffness would count twice");
+      return false;
+    }
   return true;
 }
 
@@ -811,6 +861,7 @@ bool ReadObj(std::string const& path, TriangleMesh& mesh, Error& error) {
   };
   DynamicArray<PendingCheck> forward;
   DynamicArray<int> polygon;
+  DynamicArray<std::pair<int, int>> corners;  // (vertex, position in the face)
   while (r.Next()) {
     std::string_view const keyword = r[0];
     if (keyword == "v") {
@@ -878,13 +929,17 @@ bool ReadObj(std::string const& path, TriangleMesh& mesh, Error& error) {
         }
         polygon.push_back(vertex);
       }
-      for (size_t a = 1; a < polygon.size(); ++a)
-        for (size_t b = 0; b < a; ++b)
-          if (polygon[a] == polygon[b])
-            return r.Fail("face uses vertex " + std::to_string(polygon[a] + 1) +
-                              " more than once (as " + Quoted(r[b + 1]) + " and " +
-                              Quoted(r[a + 1]) + ")",
-                          error);
+      // a vertex used twice: sort (vertex, position) pairs, O(n log n) in
+      // the polygon's size (a single face may have 10⁵ vertices)
+      corners.resize(polygon.size());
+      for (size_t k = 0; k < polygon.size(); ++k) corners[k] = {polygon[k], static_cast<int>(k)};
+      std::sort(corners.begin(), corners.end());
+      for (size_t k = 1; k < corners.size(); ++k)
+        if (corners[k].first == corners[k - 1].first)
+          return r.Fail("face uses vertex " + std::to_string(corners[k].first + 1) + " more than once (as " +
+                            Quoted(r[corners[k - 1].second + 1]) + " and " + Quoted(r[corners[k].second + 1]) +
+                            ")",
+                        error);
       for (size_t k = 1; k + 1 < polygon.size(); ++k)
         result.triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
     }

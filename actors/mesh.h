@@ -13,7 +13,11 @@
 // "<file>:<line>: " (compiler style) followed by what is wrong and the
 // offending value; the code is
 //   InvalidState     the file cannot be opened or read (I/O), message
-//                    "<file>: cannot open ..." (there is no line);
+//                    "<file>: cannot open ...", "<file>: read error (...)"
+//                    (there is no line), or it is not a regular file (a
+//                    pipe, a device) and longer than 256 MiB ("<file>: read
+//                    stopped after 256 MiB ..."). Readers never throw, and a
+//                    pipe without a writer reads as empty;
 //   InvalidArgument  anything wrong with the content: missing header or
 //                    section, wrong counts, non-numeric or non-finite values,
 //                    indices out of range, elements of the wrong size, a node

@@ -56,7 +56,8 @@ std::unique_ptr<RodActor> RodActor::Create(RodActorParams const& params, Error& 
   // section
   real area, inertia1, inertia2, torsion;
   if (params.sectionArea > 0) {
-    if (!CheckPositive(params.secondMomentOfArea1, Field("secondMomentOfArea1"), error) ||
+    if (!CheckPositive(params.sectionArea, Field("sectionArea"), error) ||
+        !CheckPositive(params.secondMomentOfArea1, Field("secondMomentOfArea1"), error) ||
         !CheckPositive(params.secondMomentOfArea2, Field("secondMomentOfArea2"), error) ||
         !CheckPositive(params.torsionConstant, Field("torsionConstant"), error))
       return nullptr;
@@ -77,6 +78,13 @@ std::unique_ptr<RodActor> RodActor::Create(RodActorParams const& params, Error& 
   DynamicArray<Real3> tangents(numElements);
   for (int e = 0; e < numElements; ++e) {
     Real3 const edge = params.nodes[e + 1] - params.nodes[e];
+    if (!std::isfinite(edge.norm())) {
+      error.Set(ErrorCode::InvalidArgument, Field("nodes") + ": element " + std::to_string(e) + " (nodes " +
+                                                std::to_string(e) + ", " + std::to_string(e + 1) + " at " +
+                                                Format(params.nodes[e]) + " and " + Format(params.nodes[e + 1]) +
+                                                ") is too long: its length overflows");
+      return nullptr;
+    }
     real const scale = std::max(params.nodes[e].norm(), params.nodes[e + 1].norm());
     if (!(edge.norm() > 1e-12 * std::max<real>(scale, 1e-300))) {
       error.Set(ErrorCode::InvalidArgument, Field("nodes") + ": element " + std::to_string(e) + " (nodes " +
@@ -156,6 +164,33 @@ std::unique_ptr<RodActor> RodActor::Create(RodActorParams const& params, Error& 
     a.twistInertia_[e] = params.density * (inertia1 + inertia2) * a.restLength_[e];
   }
   a.twistInertia_[numNodes - 1] = a.twistInertia_[numElements - 1];
+  // the products of the inputs must stay representable: a radius of 1e300
+  // overflows the masses, 1e-300 (or a density of 5e-324) underflows them
+  std::string const section =
+      params.sectionArea > 0 ? "sectionArea " + Format(area)
+                             : "radius " + Format(params.radius) + " (section area " + Format(area) + ")";
+  for (int i = 0; i < numNodes; ++i)
+    if (!(std::isfinite(a.mass_[i]) && a.mass_[i] > 0 && std::isfinite(a.twistInertia_[i]) &&
+          a.twistInertia_[i] > 0)) {
+      error.Set(ErrorCode::InvalidArgument,
+                "RodActorParams: node " + std::to_string(i) + " gets mass " + Format(a.mass_[i]) +
+                    " and twist inertia " + Format(a.twistInertia_[i]) + " from density " +
+                    Format(params.density) + ", " + section +
+                    " and its elements' lengths: both must be finite and > 0 (are the units right?)");
+      return nullptr;
+    }
+  std::pair<char const*, real> const stiffnesses[4] = {{"stretching E·A", a.stiffness_.stretch},
+                                                        {"bending E·I1", a.stiffness_.bend1},
+                                                        {"bending E·I2", a.stiffness_.bend2},
+                                                        {"twisting G·J", a.stiffness_.twist}};
+  for (auto const& [name, value] : stiffnesses)
+    if (!(std::isfinite(value) && value > 0)) {
+      error.Set(ErrorCode::InvalidArgument, "RodActorParams: the " + std::string(name) + " stiffness " +
+                                                Format(value) + " from youngModulus " +
+                                                Format(params.youngModulus) + " and " + section +
+                                                " must be finite and > 0 (are the units right?)");
+      return nullptr;
+    }
 
   State& s = a.state_;
   s.displacement.assign(numNodes, Real3::Zero());

@@ -1,6 +1,8 @@
-// Stable handles. A handle names an object by slot index and generation; the
-// generation of a slot is bumped when its object is destroyed, so a handle
-// kept past destruction is detected as stale instead of naming a new object.
+// Stable handles. A handle names an object by slot index, generation and
+// scene; the generation of a slot is bumped when its object is destroyed, so a
+// handle kept past destruction is detected as stale instead of naming a new
+// object, and a handle of one scene is refused by every other scene
+// (docs/lifetime.md).
 #pragma once
 
 #include <cstdint>
@@ -13,6 +15,9 @@ struct Handle {
   static constexpr std::uint32_t kInvalidIndex = 0xffffffffu;
   std::uint32_t index = kInvalidIndex;
   std::uint32_t generation = 0;
+  /// The scene that issued the handle (a number unique in the process,
+  /// from 1); 0 for a null handle or one built from numbers.
+  std::uint32_t scene = 0;
 
   bool IsNull() const { return index == kInvalidIndex; }
   friend bool operator==(Handle a, Handle b) = default;
@@ -28,6 +33,6 @@ using ConstraintHandle = Handle<ConstraintTag>;
 template <class Tag>
 struct std::hash<superdex::Handle<Tag>> {
   std::size_t operator()(superdex::Handle<Tag> h) const noexcept {
-    return (std::size_t(h.generation) << 32) ^ h.index;
+    return ((std::size_t(h.generation) << 32) ^ h.index) * 0x9e3779b97f4a7c15ull ^ h.scene;
   }
 };

@@ -13,6 +13,10 @@ class SlotMap {
  public:
   using HandleT = Handle<Tag>;
 
+  /// Storage of the scene numbered `owner`: its handles carry that number,
+  /// and handles of any other owner are not found.
+  explicit SlotMap(std::uint32_t owner) : owner_(owner) {}
+
   HandleT Insert(std::unique_ptr<T> object) {
     std::uint32_t index;
     if (!freeSlots_.empty()) {
@@ -23,12 +27,13 @@ class SlotMap {
       slots_.push_back({});
     }
     slots_[index].object = std::move(object);
-    return {index, slots_[index].generation};
+    return {index, slots_[index].generation, owner_};
   }
 
-  /// The object, or nullptr when the handle is null, out of range or stale.
+  /// The object, or nullptr when the handle is null, out of range, stale or
+  /// issued by another owner.
   T* Get(HandleT h) const {
-    if (h.index >= slots_.size()) return nullptr;
+    if (h.scene != owner_ || h.index >= slots_.size()) return nullptr;
     Slot const& s = slots_[h.index];
     return (s.generation == h.generation) ? s.object.get() : nullptr;
   }
@@ -49,12 +54,15 @@ class SlotMap {
   }
 
   std::size_t Size() const { return slots_.size() - freeSlots_.size(); }
+  /// A non-null handle issued by another owner (another scene).
+  bool IsForeign(HandleT h) const { return !h.IsNull() && h.scene != owner_; }
 
  private:
   struct Slot {
     std::unique_ptr<T> object;
     std::uint32_t generation = 1;
   };
+  std::uint32_t owner_;
   std::vector<Slot> slots_;
   std::vector<std::uint32_t> freeSlots_;
 };

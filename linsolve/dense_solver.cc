@@ -38,6 +38,16 @@ double DenseCholeskySolver::GetFactorFlops() const {
 }
 
 LinearSolveResult DenseCholeskySolver::DoAnalyze(SparseSymmetricMatrix const& a) {
+  if (a.size > kDenseSolverMaxUnknowns) {
+    LinearSolveResult result;
+    result.status = LinearSolveStatus::InvalidInput;
+    result.reason = "the dense solver takes at most kDenseSolverMaxUnknowns = " +
+                    std::to_string(kDenseSolverMaxUnknowns) + " unknowns, got " + std::to_string(a.size) +
+                    " (its factorization would cost " + std::to_string(static_cast<long long>(
+                                                            double(a.size) * a.size * a.size / 3e9)) +
+                    " Gflop per Newton iteration); use Cholmod or PetscPcg";
+    return result;
+  }
   size_ = a.size;
   factor_.resize(a.size, a.size);
   return {};

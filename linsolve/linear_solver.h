@@ -101,6 +101,13 @@ DynamicArray<PcgPreconditioner> AvailablePcgPreconditioners();
 /// (16 bodies) and slower from 102 on.
 inline constexpr int kDenseSolverMaxSize = 96;
 
+/// Largest system the dense backend accepts when chosen explicitly
+/// (LinearSolverType::Dense); Analyze refuses larger ones with InvalidInput.
+/// Its factorization costs n³/3 flops and n² memory: at this size 4.2e10
+/// flops (~2–4 s per Newton iteration here, docs/linear_solvers.md), at
+/// 12,000 unknowns minutes per step where CHOLMOD takes milliseconds.
+inline constexpr int kDenseSolverMaxUnknowns = 5000;
+
 enum class LinearSolveStatus {
   Ok,
   NotPositiveDefinite,  ///< direct backends: `failingColumn` holds the column where it

@@ -1,6 +1,7 @@
 #include <superdex/scene/scene.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <type_traits>
@@ -21,8 +22,26 @@ std::string_view ToString(HessianProjection projection) {
 }
 
 namespace {
-std::string HandleText(ActorHandle h) {
-  return "{index " + std::to_string(h.index) + ", generation " + std::to_string(h.generation) + "}";
+template <class Tag>
+std::string HandleText(Handle<Tag> h) {
+  return "{index " + std::to_string(h.index) + ", generation " + std::to_string(h.generation) +
+         ", scene " + std::to_string(h.scene) + "}";
+}
+
+/// Why `map` has no object for `h`: issued by another scene, or null/stale.
+template <class T, class Tag>
+std::string WhyNotFound(internal::SlotMap<T, Tag> const& map, Handle<Tag> h, std::uint32_t sceneId) {
+  if (map.IsForeign(h))
+    return "belongs to another scene (this is scene " + std::to_string(sceneId) + ")";
+  return "is null or stale";
+}
+
+/// Scene numbers, unique in the process; 0 is never issued (null handles).
+std::uint32_t NextSceneId() {
+  static std::atomic<std::uint32_t> last{0};
+  std::uint32_t id = ++last;
+  if (id == 0) id = ++last;  // after 2^32 scenes
+  return id;
 }
 
 // maxSubsteps a power of two >= 1: every attempt halves the last one's
@@ -40,7 +59,11 @@ bool CheckSubstepParams(SubstepParams const& p, std::string const& prefix, Error
 }  // namespace
 
 Scene::Scene(SceneParams const& params)
-    : params_(params), solver_(std::make_unique<internal::StageSolver>()) {}
+    : id_(NextSceneId()),
+      params_(params),
+      actors_(id_),
+      constraints_(id_),
+      solver_(std::make_unique<internal::StageSolver>()) {}
 
 Scene::~Scene() = default;
 
@@ -156,15 +179,21 @@ ArticulatedActor* Scene::CreateArticulatedActor(ArticulatedActorParams const& pa
 
 Actor* Scene::GetActor(ActorHandle handle) const { return actors_.Get(handle); }
 
-void Scene::ForEachActor(std::function<void(Actor&)> const& fn) const {
-  for (Actor* actor : actorOrder_) fn(*actor);
+// Both visits go over a snapshot of handles, so that a callback may create,
+// destroy or step; each object is looked up again before its turn.
+void Scene::VisitActors(std::function<void(Actor&)> const& fn) const {
+  DynamicArray<ActorHandle> handles;
+  handles.reserve(actorOrder_.size());
+  for (Actor* actor : actorOrder_) handles.push_back(actor->GetHandle());
+  for (ActorHandle handle : handles)
+    if (Actor* actor = actors_.Get(handle)) fn(*actor);
 }
 
 bool Scene::DestroyActor(ActorHandle handle, Error& error) {
   Actor* actor = actors_.Get(handle);
   if (!actor) {
-    error.Set(ErrorCode::InvalidHandle, "DestroyActor: actor handle " + HandleText(handle) +
-                                             " is null or stale");
+    error.Set(ErrorCode::InvalidHandle, "DestroyActor: actor handle " + HandleText(handle) + " " +
+                                             WhyNotFound(actors_, handle, id_));
     return false;
   }
   // every constraint that references the actor goes with it
@@ -172,11 +201,7 @@ bool Scene::DestroyActor(ActorHandle handle, Error& error) {
   for (Constraint* c : constraintOrder_)
     for (int i = 0; i < c->GetNumActors(); ++i)
       if (c->GetActor(i) == actor) doomed.push_back(c->GetHandle());
-  for (ConstraintHandle c : doomed) {
-    Constraint* raw = constraints_.Get(c);
-    constraintOrder_.erase(std::find(constraintOrder_.begin(), constraintOrder_.end(), raw));
-    constraints_.Remove(c);
-  }
+  for (ConstraintHandle c : doomed) RemoveConstraint(constraints_.Get(c));
   actorOrder_.erase(std::find(actorOrder_.begin(), actorOrder_.end(), actor));
   actors_.Remove(handle);
   OnTopologyChanged();
@@ -196,7 +221,8 @@ T* Scene::GetActorAs(ActorHandle handle, std::string_view field, Error& error) c
   Actor* actor = actors_.Get(handle);
   if (!actor) {
     error.Set(ErrorCode::InvalidHandle,
-              std::string(field) + ": actor handle " + HandleText(handle) + " is null or stale");
+              std::string(field) + ": actor handle " + HandleText(handle) + " " +
+                  WhyNotFound(actors_, handle, id_));
     return nullptr;
   }
   bool const matches = kNodal ? (actor->GetType() == ActorType::Deformable || actor->GetType() == ActorType::Rod)
@@ -503,39 +529,75 @@ Constraint* Scene::CreateArticulated3dRotationRangeConstraint(Articulated3dRotat
 
 Constraint* Scene::GetConstraint(ConstraintHandle handle) const { return constraints_.Get(handle); }
 
-void Scene::ForEachConstraint(std::function<void(Constraint&)> const& fn) const {
-  for (Constraint* c : constraintOrder_) fn(*c);
+void Scene::VisitConstraints(std::function<void(Constraint&)> const& fn) const {
+  DynamicArray<ConstraintHandle> handles;
+  handles.reserve(constraintOrder_.size());
+  for (Constraint* c : constraintOrder_) handles.push_back(c->GetHandle());
+  for (ConstraintHandle handle : handles)
+    if (Constraint* c = constraints_.Get(handle)) fn(*c);
+}
+
+void Scene::RemoveConstraint(Constraint* constraint) {
+  constraintOrder_.erase(std::find(constraintOrder_.begin(), constraintOrder_.end(), constraint));
+  std::unique_ptr<Constraint> removed = constraints_.Remove(constraint->GetHandle());
+  if (quarantine_.size() < static_cast<std::size_t>(kPointerQuarantine)) {
+    quarantine_.push_back(std::move(removed));
+  } else {
+    quarantine_[quarantineNext_] = std::move(removed);  // frees the oldest
+    quarantineNext_ = (quarantineNext_ + 1) % kPointerQuarantine;
+  }
 }
 
 bool Scene::DestroyConstraint(ConstraintHandle handle, Error& error) {
   Constraint* c = constraints_.Get(handle);
   if (!c) {
-    error.Set(ErrorCode::InvalidHandle, "DestroyConstraint: constraint handle {index " +
-                                             std::to_string(handle.index) + ", generation " +
-                                             std::to_string(handle.generation) +
-                                             "} is null or stale");
+    error.Set(ErrorCode::InvalidHandle, "DestroyConstraint: constraint handle " + HandleText(handle) +
+                                             " " + WhyNotFound(constraints_, handle, id_));
     return false;
   }
-  constraintOrder_.erase(std::find(constraintOrder_.begin(), constraintOrder_.end(), c));
-  constraints_.Remove(handle);
+  RemoveConstraint(c);
   OnTopologyChanged();
   return true;
 }
 
 bool Scene::DestroyConstraint(Constraint* constraint, Error& error) {
   // look the pointer up among live constraints instead of dereferencing it
-  auto it = std::find(constraintOrder_.begin(), constraintOrder_.end(), constraint);
-  if (constraint == nullptr || it == constraintOrder_.end()) {
-    error.Set(ErrorCode::InvalidHandle,
-              "DestroyConstraint: the constraint pointer is null or not a live constraint of this scene");
+  if (constraint == nullptr) {
+    error.Set(ErrorCode::InvalidHandle, "DestroyConstraint: the constraint pointer is null");
     return false;
   }
-  return DestroyConstraint((*it)->GetHandle(), error);
+  auto it = std::find(constraintOrder_.begin(), constraintOrder_.end(), constraint);
+  if (it != constraintOrder_.end()) return DestroyConstraint((*it)->GetHandle(), error);
+  bool const destroyed = std::any_of(quarantine_.begin(), quarantine_.end(),
+                                     [&](auto const& dead) { return dead.get() == constraint; });
+  error.Set(ErrorCode::InvalidHandle,
+            destroyed ? "DestroyConstraint: the constraint pointer names a constraint that was destroyed "
+                        "(directly or with one of its actors)"
+                      : "DestroyConstraint: the constraint pointer is not a live constraint of this scene "
+                        "(another scene's, or destroyed long ago; ConstraintHandle tells them apart)");
+  return false;
+}
+
+bool Scene::DestroyConstraint(Constraint* constraint) {
+  Error ignored;
+  return DestroyConstraint(constraint, ignored);
+}
+
+bool Scene::DestroyConstraint(ConstraintHandle handle) {
+  Error ignored;
+  return DestroyConstraint(handle, ignored);
 }
 
 // ---- stepping ----
 
 bool Scene::SetLinearSolver(LinearSolverType type, PcgParams const& pcg, Error& error) {
+  if (type == LinearSolverType::Dense && GetNumDofs() > kDenseSolverMaxUnknowns) {
+    error.Set(ErrorCode::InvalidArgument,
+              "linearSolver Dense takes at most kDenseSolverMaxUnknowns = " +
+                  std::to_string(kDenseSolverMaxUnknowns) + " unknowns, this scene has " +
+                  std::to_string(GetNumDofs()) + " DoFs; use Cholmod or PetscPcg");
+    return false;
+  }
   if (!solver_->SetLinearSolver(type, pcg, error)) return false;
   params_.linearSolver = type;
   params_.pcg = pcg;
@@ -565,6 +627,15 @@ bool Scene::Step(real dt, Error& error) {
   stats_.nearRigidConstraints = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;
+
+  // no actor, nothing to integrate (and no system to solve): time advances
+  if (actorOrder_.empty()) {
+    time_ += dt;
+    ++stats_.steps;
+    stats_.substeps = 1;
+    stats_.stepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return true;
+  }
 
   if (topologyChanged_) {
     auto const analysisStart = std::chrono::steady_clock::now();

@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <memory>
+#include <type_traits>
 
 #include <superdex/actors/articulated_actor.h>
 #include <superdex/actors/deformable_actor.h>
@@ -44,6 +45,16 @@ struct FaultInjection;
 struct ActorSnapshot;
 /// Test hook: injects a linear-solver failure (see FaultInjection).
 void SetFaultInjectionForTesting(Scene& scene, FaultInjection const& fault);
+/// Calls a ForEach callback with `object` as T& or, when it takes that, T*.
+template <class T, class Fn>
+void CallVisitor(Fn& fn, T& object) {
+  if constexpr (std::is_invocable_v<Fn&, T&>) {
+    fn(object);
+  } else {
+    static_assert(std::is_invocable_v<Fn&, T*>, "the callback must take T& or T*");
+    fn(&object);
+  }
+}
 }  // namespace internal
 
 class Scene {
@@ -65,7 +76,15 @@ class Scene {
   Actor* GetActor(ActorHandle handle) const;
   /// Destroys the actor and every constraint that references it.
   bool DestroyActor(ActorHandle handle, Error& error);
-  void ForEachActor(std::function<void(Actor&)> const& fn) const;
+  /// Calls fn(Actor&) or fn(Actor*) on every live actor, in creation order.
+  /// fn may create, destroy and step: the actors visited are those alive
+  /// when the call began and still alive when their turn comes (an actor
+  /// destroyed by an earlier callback is skipped, one created is not
+  /// visited); docs/lifetime.md.
+  template <class Fn>
+  void ForEachActor(Fn&& fn) const {
+    VisitActors([&fn](Actor& actor) { internal::CallVisitor(fn, actor); });
+  }
   int GetNumActors() const { return static_cast<int>(actorOrder_.size()); }
 
   // ---- constraints ----
@@ -106,9 +125,27 @@ class Scene {
       Articulated3dRotationRangeConstraintParams const& params, Error& error);
   /// The constraint, or nullptr for a null or stale handle.
   Constraint* GetConstraint(ConstraintHandle handle) const;
-  void ForEachConstraint(std::function<void(Constraint&)> const& fn) const;
+  /// Calls fn(Constraint&) or fn(Constraint*) on every live constraint, in
+  /// creation order, with the rules of ForEachActor.
+  template <class Fn>
+  void ForEachConstraint(Fn&& fn) const {
+    VisitConstraints([&fn](Constraint& c) { internal::CallVisitor(fn, c); });
+  }
+  /// Destroys a live constraint of this scene. The handle overload is the
+  /// safe one: a stale or foreign handle is always refused. A pointer is
+  /// looked up among this scene's live constraints and never dereferenced;
+  /// one to a constraint destroyed in the last kPointerQuarantine
+  /// destructions is refused as destroyed (its memory is not reused until
+  /// then), an older one may name a new constraint at the same address
+  /// (docs/lifetime.md).
   bool DestroyConstraint(Constraint* constraint, Error& error);
   bool DestroyConstraint(ConstraintHandle handle, Error& error);
+  /// The reference page's forms without an Error: false on failure.
+  bool DestroyConstraint(Constraint* constraint);
+  bool DestroyConstraint(ConstraintHandle handle);
+  /// How many destroyed constraints keep their memory, so that a pointer to
+  /// one of them is recognised (DestroyConstraint(Constraint*)).
+  static constexpr int kPointerQuarantine = 64;
   int GetNumConstraints() const { return static_cast<int>(constraintOrder_.size()); }
 
   // ---- stepping ----
@@ -116,7 +153,8 @@ class Scene {
   /// With SubstepParams::maxSubsteps > 1, a failed step is retried from the
   /// exact pre-step state as 2, 4, ... sub-steps of dt/2, dt/4, ... (up to
   /// the cap) before it fails; the error then is the last attempt's, naming
-  /// its sub-step. GetTime advances by exactly dt either way.
+  /// its sub-step. GetTime advances by exactly dt either way. A scene
+  /// without actors only advances its time.
   bool Step(real dt, Error& error);
   /// Sets the sub-stepping policy between steps (maxSubsteps a power of two
   /// >= 1; 1 turns it off). On invalid input nothing changes.
@@ -131,6 +169,9 @@ class Scene {
   }
 
   real GetTime() const { return time_; }
+  /// The number stamped on this scene's handles (Handle::scene), unique in
+  /// the process; a handle of another scene is refused with InvalidHandle.
+  std::uint32_t GetId() const { return id_; }
   SceneParams const& GetParams() const { return params_; }
   SceneStats const& GetStats() const { return stats_; }
   /// Total DoFs of all actors.
@@ -139,6 +180,11 @@ class Scene {
  private:
   explicit Scene(SceneParams const& params);
   friend void internal::SetFaultInjectionForTesting(Scene&, internal::FaultInjection const&);
+
+  void VisitActors(std::function<void(Actor&)> const& fn) const;
+  void VisitConstraints(std::function<void(Constraint&)> const& fn) const;
+  /// Removes a live constraint and keeps its memory in the quarantine.
+  void RemoveConstraint(Constraint* constraint);
 
   ActorHandle AddActor(std::unique_ptr<Actor> actor);
   Constraint* AddConstraint(std::unique_ptr<Constraint> constraint);
@@ -175,11 +221,16 @@ class Scene {
   /// start's) to the target the caller set, which is the last sub-step's.
   void SetSubstepTargets(int index, int substeps);
 
+  std::uint32_t const id_;  ///< stamped on every handle this scene issues
   SceneParams params_;
   internal::SlotMap<Actor, ActorTag> actors_;
   internal::SlotMap<Constraint, ConstraintTag> constraints_;
   DynamicArray<Actor*> actorOrder_;            ///< creation order = DoF order
   DynamicArray<Constraint*> constraintOrder_;  ///< creation order = contributor order
+  /// the last kPointerQuarantine destroyed constraints (a ring), so that
+  /// their addresses are not reused while a stale pointer is most likely
+  DynamicArray<std::unique_ptr<Constraint>> quarantine_;
+  int quarantineNext_ = 0;
   bool topologyChanged_ = true;
   std::unique_ptr<internal::StageSolver> solver_;
   SceneStats stats_;

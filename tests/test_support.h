@@ -4,10 +4,19 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <string>
 
 #include <superdex/superdex.h>
 
 namespace superdex::test {
+
+/// `text` contains `part`.
+inline bool Contains(std::string const& text, std::string const& part) {
+  return text.find(part) != std::string::npos;
+}
+
+/// The error's message contains `part`.
+inline bool Mentions(Error const& e, std::string const& part) { return Contains(e.GetMessage(), part); }
 
 /// |a − b| <= tol · max(|a|, |b|, 1)
 inline bool Near(real a, real b, real tol) {

@@ -201,6 +201,22 @@ TEST_CASE("bad deformable input gives an Error naming the element and changes no
     p.nodes.push_back(Real3(1, 1, 1));
     expectError(p, "nodes[8]");
   }
+  SECTION("a density whose masses underflow or overflow is blamed, not the mesh") {
+    // before: "nodes[0] belongs to no element"
+    DeformableActorParams p = good;
+    p.density = 5e-324;
+    expectError(p, "gets mass 0 from density 4.94065645841246");
+    p.density = 1e308;
+    p.nodes = mesh.nodes;
+    for (Real3& x : p.nodes) x *= 1e4;  // volumes of ~1e9 m³: masses overflow
+    expectError(p, "gets mass inf from density 1e+308");
+  }
+  SECTION("a tetrahedron listed twice") {
+    // before: accepted with twice its mass and stiffness
+    DeformableActorParams p = good;
+    p.tetrahedra.push_back(p.tetrahedra[3]);
+    expectError(p, "tetrahedra[6] = {");
+  }
   SECTION("bad node index in a constraint") {
     DeformableActor* actor = scene->CreateDeformableActor(good, error);
     REQUIRE(actor);

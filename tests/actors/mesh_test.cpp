@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -24,10 +25,6 @@ constexpr real kInf = std::numeric_limits<real>::infinity();
 
 std::string Data(std::string const& name) {
   return std::string(SUPERDEX_TEST_DATA_DIR) + "/" + name;
-}
-
-bool Mentions(Error const& e, std::string const& part) {
-  return e.GetMessage().find(part) != std::string::npos;
 }
 
 bool Same(TetMesh const& a, TetMesh const& b) {
@@ -534,6 +531,78 @@ TEST_CASE("readers: an unreadable file is an I/O error naming the file",
   REQUIRE(Same(mesh, SentinelTriangles()));
 }
 
+TEST_CASE("readers: special files give an Error, never an exception or an unbounded read",
+          "[actors][mesh][io][input]") {
+  // every reader on the file: an Error naming it, the mesh unchanged
+  auto const readAll = [](std::string const& path) {
+    for (Reader reader : {Reader::GmshTets, Reader::GmshTriangles, Reader::Obj})
+      REQUIRE(Mentions(ReadBad({reader, "", "", 0, ""}, path), path + ":"));
+    Error error;
+    TetMesh tets = SentinelTets();
+    REQUIRE_FALSE(ReadTetGen(path, Data("cube1.ele"), tets, error));
+    REQUIRE(Mentions(error, path + ":"));
+    REQUIRE(Same(tets, SentinelTets()));
+  };
+  // /dev/zero never ends: read up to the cap for non-regular files (before:
+  // read until std::bad_alloc)
+  SECTION("/dev/zero") {
+    if (!std::filesystem::exists("/dev/zero")) {
+      WARN("no /dev/zero: not checked");
+      return;
+    }
+    Error error;
+    TriangleMesh mesh = SentinelTriangles();
+    REQUIRE_FALSE(ReadObj("/dev/zero", mesh, error));
+    REQUIRE(error.GetCode() == ErrorCode::InvalidState);
+    REQUIRE(Mentions(error, "/dev/zero: read stopped after 256 MiB"));
+    REQUIRE(Same(mesh, SentinelTriangles()));
+  }
+  // a file whose read fails (EIO): before, std::ios_base::failure escaped
+  SECTION("/proc/self/mem") {
+    if (access("/proc/self/mem", R_OK) != 0) {
+      WARN("no readable /proc/self/mem: not checked");
+      return;
+    }
+    readAll("/proc/self/mem");
+    Error error;
+    TriangleMesh mesh;
+    REQUIRE_FALSE(ReadObj("/proc/self/mem", mesh, error));
+    REQUIRE(error.GetCode() == ErrorCode::InvalidState);
+    REQUIRE(Mentions(error, "read error"));
+  }
+  // /dev/null: an empty file
+  SECTION("/dev/null") { readAll("/dev/null"); }
+}
+
+TEST_CASE("ReadObj: one face of 400,000 vertices, and a vertex repeated in it", "[actors][mesh][io]") {
+  // before: the repeated-vertex check compared every pair (26 s for this face)
+  std::filesystem::path const dir =
+      std::filesystem::temp_directory_path() / ("superdex_mesh_big_face_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  int const n = 400000;
+  std::string vertices, face = "f";
+  for (int i = 0; i < n; ++i) {
+    real const angle = 2 * std::numbers::pi_v<real> * i / n;
+    vertices += "v " + std::to_string(std::cos(angle)) + " " + std::to_string(std::sin(angle)) + " 0\n";
+    face += " " + std::to_string(i + 1);
+  }
+  std::string const good = (dir / "good.obj").string(), bad = (dir / "bad.obj").string();
+  std::ofstream(good) << vertices << face << "\n";
+  // vertex 7 again near the end
+  std::ofstream(bad) << vertices << face << " 7\n";
+  Error error;
+  TriangleMesh mesh;
+  REQUIRE(ReadObj(good, mesh, error));
+  REQUIRE(mesh.nodes.size() == std::size_t(n));
+  REQUIRE(mesh.triangles.size() == std::size_t(n - 2));
+  REQUIRE(mesh.triangles.back() == std::array<int, 3>{0, n - 2, n - 1});
+  TriangleMesh unchanged = SentinelTriangles();
+  REQUIRE_FALSE(ReadObj(bad, unchanged, error));
+  REQUIRE(Mentions(error, "face uses vertex 7 more than once (as '7' and '7')"));
+  REQUIRE(Same(unchanged, SentinelTriangles()));
+  std::filesystem::remove_all(dir);
+}
+
 // -------------------------------------------------------------- validation
 
 TEST_CASE("ValidateTetMesh names the element and the offending node", "[actors][mesh][input]") {
@@ -556,6 +625,14 @@ TEST_CASE("ValidateTetMesh names the element and the offending node", "[actors][
     REQUIRE_FALSE(ValidateTetMesh(mesh, error));
     REQUIRE(Mentions(error, "TetMesh.tetrahedra[5][3] = " + std::to_string(mesh.tetrahedra[5][1]) +
                                 " repeats a node"));
+  }
+  SECTION("an element listed twice, in another node order") {
+    // before: accepted, and the deformable counted its mass twice
+    auto const& t = mesh.tetrahedra[2];
+    mesh.tetrahedra.push_back({t[3], t[1], t[2], t[0]});
+    REQUIRE_FALSE(ValidateTetMesh(mesh, error));
+    REQUIRE(Mentions(error, "TetMesh.tetrahedra[12] = {"));
+    REQUIRE(Mentions(error, "repeats tetrahedra[2] (the same nodes)"));
   }
   SECTION("non-finite node") {
     mesh.nodes[7].y() = kNaN;
@@ -588,6 +665,12 @@ TEST_CASE("ValidateTriangleMesh names the element and the offending node",
     REQUIRE_FALSE(ValidateTriangleMesh(mesh, error));
     REQUIRE(Mentions(error, "TriangleMesh.triangles[2][2]"));
     REQUIRE(Mentions(error, "repeats a node"));
+  }
+  SECTION("a triangle listed twice") {
+    mesh.triangles.push_back(mesh.triangles[1]);
+    REQUIRE_FALSE(ValidateTriangleMesh(mesh, error));
+    REQUIRE(Mentions(error, "TriangleMesh.triangles[8] = {"));
+    REQUIRE(Mentions(error, "repeats triangles[1]"));
   }
   SECTION("non-finite node") {
     mesh.nodes[4].x() = -kInf;

@@ -39,10 +39,6 @@ std::string ReadText(std::string const& path) {
   return s.str();
 }
 
-bool Mentions(Error const& e, std::string const& part) {
-  return e.GetMessage().find(part) != std::string::npos;
-}
-
 /// The value of attribute `name` in the first tag `<tag ...>` of `xml`.
 std::string Attribute(std::string const& xml, std::string const& tag, std::string const& name) {
   std::smatch m;

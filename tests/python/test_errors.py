@@ -263,3 +263,25 @@ def test_linear_solver_errors(scene):
     with raises(mochi.ErrorCode.InvalidArgument, "iccLevels"):
         mochi.validate_pcg_params(mochi.PcgParams(icc_levels=-1))
     assert scene.get_params().linear_solver == mochi.LinearSolverType.Auto  # unchanged
+
+
+def test_64_bit_indices_are_never_truncated(scene):
+    """Before: [0, 1, 2, 2**32 + 3] became [0, 1, 2, 3]."""
+    mesh = mochi.make_tet_box(origin=[0, 0, 0], size=[1, 1, 1], cells=[1, 1, 1])
+    tets = np.array(mesh.tetrahedra, dtype=np.int64)
+    tets[2, 3] = 2**32 + 3
+    with raises(mochi.ErrorCode.InvalidArgument, "tetrahedra[2][3] = 4294967299", "32-bit index"):
+        scene.create_deformable_actor(nodes=mesh.nodes, tetrahedra=tets)
+    with raises(mochi.ErrorCode.InvalidArgument, "4294967299"):
+        mochi.TetMesh(nodes=mesh.nodes, tetrahedra=tets)
+    big = np.array(mesh.tetrahedra, dtype=np.uint64)
+    big[0, 0] = 2**63 + 5
+    with raises(mochi.ErrorCode.InvalidArgument, "tetrahedra[0][0] = 9223372036854775813"):
+        scene.create_deformable_actor(nodes=mesh.nodes, tetrahedra=big)
+    negative = np.array(mesh.tetrahedra, dtype=np.int64)
+    negative[1, 1] = -(2**40)
+    with raises(mochi.ErrorCode.InvalidArgument, "tetrahedra[1][1] = -1099511627776"):
+        scene.create_deformable_actor(nodes=mesh.nodes, tetrahedra=negative)
+    assert scene.get_num_actors() == 0
+    # int64 indices in range are fine
+    scene.create_deformable_actor(nodes=mesh.nodes, tetrahedra=np.array(mesh.tetrahedra, dtype=np.int64))

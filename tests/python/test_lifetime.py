@@ -180,3 +180,39 @@ def test_scene_garbage_collected_at_exit_never_crashes():
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip() == "done"
+
+
+def test_objects_and_handles_of_another_scene_are_refused():
+    """Before: s1.destroy_actor(actor_of_s2) destroyed s1's actor in the same
+    slot; factories and destroy_constraint did the same."""
+    s1, s2 = mochi.Scene.create(), mochi.Scene.create()
+    zoo1, zoo2 = make_zoo(s1), make_zoo(s2)
+    assert s1.get_id() != s2.get_id()
+    assert zoo2["a"].get_handle().scene == s2.get_id()
+    c2 = s2.create_rigid_spherical_joint_constraint(actor_a=zoo2["a"], actor_b=zoo2["b"], stiffness=1e4)
+    c1 = s1.create_rigid_spherical_joint_constraint(actor_a=zoo1["a"], actor_b=zoo1["b"], stiffness=1e4)
+    assert c1.get_handle().index == c2.get_handle().index  # same slot in both scenes
+    counts = (s1.get_num_actors(), s1.get_num_constraints())
+    for foreign in (zoo2["a"], zoo2["a"].get_handle()):
+        with pytest.raises(mochi.Error) as e:
+            s1.destroy_actor(foreign)
+        assert e.value.code == mochi.ErrorCode.InvalidHandle and "belongs to another scene" in e.value.message
+        assert s1.get_actor(zoo2["a"].get_handle()) is None
+    for foreign in (c2, c2.get_handle()):
+        with pytest.raises(mochi.Error) as e:
+            s1.destroy_constraint(foreign)
+        assert "belongs to another scene" in e.value.message
+    # every factory, with one actor of the other scene in each actor field
+    for name, params_class, kwargs in valid_params(zoo1):
+        fields = [k for k, v in kwargs.items() if isinstance(v, mochi.Actor)]
+        for field in fields:
+            bad = dict(kwargs)
+            bad[field] = zoo2[next(k for k, v in zoo1.items() if v == kwargs[field])]  # its twin in s2
+            with pytest.raises(mochi.Error) as e:
+                getattr(s1, name)(**bad)
+            assert e.value.code == mochi.ErrorCode.InvalidHandle, (name, field, e.value.message)
+            assert "belongs to another scene" in e.value.message, (name, field)
+    assert (s1.get_num_actors(), s1.get_num_constraints()) == counts
+    assert all(a.is_alive() for a in zoo1.values()) and c1.is_alive()
+    s1.step(1e-3)
+    s2.step(1e-3)

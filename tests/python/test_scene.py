@@ -390,5 +390,6 @@ def test_params_objects():
     body = scene.create_rigid_actor()
     assert mochi.RigidPivotPositionConstraintParams(actor=body).actor == body.get_handle()
     h = body.get_handle()
-    assert {h: 1}[mochi.ActorHandle(index=h.index, generation=h.generation)] == 1
+    assert {h: 1}[mochi.ActorHandle(index=h.index, generation=h.generation, scene=h.scene)] == 1
+    assert h.scene == scene.get_id() and h.scene > 0
     assert mochi.ActorHandle().is_null() and repr(mochi.ActorHandle()) == "ActorHandle()"

@@ -11,10 +11,6 @@ namespace {
 constexpr real kNaN = std::numeric_limits<real>::quiet_NaN();
 constexpr real kInf = std::numeric_limits<real>::infinity();
 
-bool Mentions(Error const& e, std::string const& part) {
-  return e.GetMessage().find(part) != std::string::npos;
-}
-
 struct Pinned {
   std::unique_ptr<Scene> scene;
   RigidActor* body;
@@ -190,4 +186,122 @@ TEST_CASE("a joint between a body and itself is rejected", "[scene][input]") {
   REQUIRE_FALSE(p.scene->CreateRigidSphericalJointConstraint(joint, error));
   REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
   REQUIRE(Mentions(error, "actorB"));
+}
+
+TEST_CASE("rod masses and stiffnesses that under- or overflow are refused, naming the inputs",
+          "[scene][input][rod]") {
+  auto scene = MakeScene();
+  RodActorParams good;
+  good.nodes = {Real3(0, 0, 0), Real3(0.5, 0, 0), Real3(1, 0, 0)};
+  auto const expectError = [&](RodActorParams const& p, std::string const& mention) {
+    Error e;
+    REQUIRE_FALSE(scene->CreateRodActor(p, e));
+    CAPTURE(e.ToString(), mention);
+    REQUIRE(e.GetCode() == ErrorCode::InvalidArgument);
+    REQUIRE(Mentions(e, mention));
+    REQUIRE(scene->GetNumActors() == 0);
+  };
+  // before: each was accepted, and the first step failed
+  RodActorParams p = good;
+  p.radius = 1e300;  // area overflows: infinite masses
+  expectError(p, "radius 1.0000000000000001e+300");
+  expectError(p, "gets mass inf");
+  p.radius = 1e-300;  // area underflows: zero masses
+  expectError(p, "gets mass 0");
+  p = good;
+  p.density = 5e-324;
+  expectError(p, "gets mass 0 and twist inertia 0 from density 4.94065645841246");
+  p = good;
+  p.radius = 1e-80;  // I = π r⁴/4 ≈ 7.9e-321: masses and inertias fine, E·I underflows
+  p.density = 1e150;
+  p.youngModulus = 1e-20;
+  expectError(p, "bending E·I1 stiffness 0");
+  // the field that is wrong is named (before: the second moment of area,
+  // and "zero length")
+  p = good;
+  p.sectionArea = std::numeric_limits<real>::infinity();
+  p.secondMomentOfArea1 = p.secondMomentOfArea2 = p.torsionConstant = 1e-8;
+  expectError(p, "sectionArea");
+  p = good;
+  p.nodes = {Real3(0, 0, 0), Real3(1e200, 0, 0), Real3(-1e200, 1, 0)};
+  expectError(p, "element 0 (nodes 0, 1");
+  expectError(p, "is too long: its length overflows");
+  Error error;
+  REQUIRE(scene->CreateRodActor(good, error));
+}
+
+TEST_CASE("articulated initial states and axes that overflow are refused", "[scene][input][articulated]") {
+  auto scene = MakeScene();
+  auto const expectError = [&](ArticulatedActorParams const& p, std::string const& mention) {
+    Error e;
+    REQUIRE_FALSE(scene->CreateArticulatedActor(p, e));
+    CAPTURE(e.ToString(), mention);
+    REQUIRE(e.GetCode() == ErrorCode::InvalidArgument);
+    REQUIRE(Mentions(e, mention));
+    REQUIRE(scene->GetNumActors() == 0);
+  };
+  ArticulatedActorParams p;
+  p.links.resize(1);
+  p.links[0].joint = JointType::Spherical;
+  // before: accepted with a NaN link rotation
+  p.links[0].initialPosition = {1e300, 0, 1e300};
+  expectError(p, "ArticulatedActorParams.links[0].initialPosition[0..2]");
+  expectError(p, "angle (its norm) overflows");
+  // a huge prismatic offset overflows the link's position
+  p.links[0].joint = JointType::Prismatic;
+  p.links[0].axis = Real3(1, 0, 0);
+  p.links[0].initialPosition = {1.5e308};
+  p.links[0].jointToChildPosition = Real3(1.5e308, 0, 0);
+  expectError(p, "links[0]: the link's initial pose overflows");
+
+  // before: a 1e200 axis normalized to zero (the joint froze, the step failed)
+  ArticulatedActorParams big, unit;
+  big.links.resize(1);
+  big.links[0].joint = JointType::Revolute;
+  big.links[0].axis = Real3(0, 0, 1e200);
+  big.links[0].jointToChildPosition = Real3(0.5, 0, 0);
+  big.links[0].initialVelocity = {1};
+  unit = big;
+  unit.links[0].axis = Real3(0, 0, 1);
+  Error error;
+  ArticulatedActor* a = scene->CreateArticulatedActor(big, error);
+  ArticulatedActor* b = scene->CreateArticulatedActor(unit, error);
+  REQUIRE(a);
+  REQUIRE(b);
+  StepOk(*scene, 1e-2, 5);
+  REQUIRE((a->GetLinkPosition(0) - b->GetLinkPosition(0)).norm() < 1e-12);
+  REQUIRE(a->GetLinkPosition(0).y() > 0.01);  // it turned about z
+}
+
+TEST_CASE("the dense solver refuses a scene above kDenseSolverMaxUnknowns, and nothing changes",
+          "[scene][input]") {
+  // before: ~12,000 DoFs ran for minutes with no guard
+  SceneParams params;
+  params.linearSolver = LinearSolverType::Dense;
+  auto scene = MakeScene(params);
+  TetMesh mesh;
+  Error error;
+  REQUIRE(MakeTetBox(Real3::Zero(), Real3(1, 0.1, 0.1), {40, 4, 4}, mesh, error));  // 41·5·5 nodes
+  DeformableActorParams soft;
+  soft.nodes = mesh.nodes;
+  soft.tetrahedra = mesh.tetrahedra;
+  REQUIRE(scene->CreateDeformableActor(soft, error));
+  REQUIRE(scene->GetNumDofs() == 3075);
+  DeformableActor* second = scene->CreateDeformableActor(soft, error);
+  REQUIRE(second);
+  REQUIRE(scene->GetNumDofs() > kDenseSolverMaxUnknowns);
+  real const time = scene->GetTime();
+  Real3 const before = second->GetNodePosition(7);
+  REQUIRE_FALSE(scene->Step(1e-3, error));
+  REQUIRE(error.GetCode() == ErrorCode::LinearSolverFailed);
+  REQUIRE(Mentions(error, "at most kDenseSolverMaxUnknowns = 5000 unknowns, got 6150"));
+  REQUIRE(scene->GetTime() == time);
+  REQUIRE(second->GetNodePosition(7) == before);
+  // switching to it on a scene that large is refused up front
+  REQUIRE(scene->SetLinearSolver(LinearSolverType::Cholmod, {}, error));
+  error.Clear();
+  REQUIRE_FALSE(scene->SetLinearSolver(LinearSolverType::Dense, {}, error));
+  REQUIRE(Mentions(error, "this scene has 6150 DoFs"));
+  REQUIRE(scene->GetParams().linearSolver == LinearSolverType::Cholmod);
+  StepOk(*scene, 1e-3);
 }

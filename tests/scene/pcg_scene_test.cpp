@@ -23,10 +23,6 @@ using namespace superdex::test;
 
 namespace {
 
-bool Contains(std::string const& text, std::string const& part) {
-  return text.find(part) != std::string::npos;
-}
-
 /// A 0.6 × 0.1 × 0.1 m beam (E = 1e6) clamped at x = 0, with a rigid block
 /// hung from its tip by DeformableNodeToRigid couplings: deformable, rigid and
 /// constraint blocks in one Hessian.

@@ -75,10 +75,6 @@ void RegisterForces(Scene& scene) {
   });
 }
 
-bool Contains(std::string const& text, std::string const& part) {
-  return text.find(part) != std::string::npos;
-}
-
 /// A body beside the chain on soft, damped kinematic drives (so that the
 /// path of their targets shows in its motion): a RigidPivotToRigidTarget
 /// (transform target) and a RigidPivotRotation (rotation target).

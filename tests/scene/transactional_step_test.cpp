@@ -34,9 +34,6 @@ bool BitIdentical(DynamicArray<BodyState> const& a, DynamicArray<BodyState> cons
   return true;
 }
 
-bool Contains(std::string const& text, std::string const& part) {
-  return text.find(part) != std::string::npos;
-}
 }  // namespace
 
 TEST_CASE("a failed step changes nothing and says which stage failed and why", "[scene][transaction]") {

@@ -69,6 +69,7 @@ void DefineLinearSolver(py::module_& m) {
       .def("resolve_linear_solver_type", &ResolveLinearSolverType, py::arg("requested"),
            py::arg("size"), "The backend Auto resolves to for a system of `size` unknowns.");
   m.attr("DENSE_SOLVER_MAX_SIZE") = kDenseSolverMaxSize;
+  m.attr("DENSE_SOLVER_MAX_UNKNOWNS") = kDenseSolverMaxUnknowns;
 
   py::enum_<LinearSolveStatus>(m, "LinearSolveStatus", "Outcome of a linear-solver call.")
       .value("Ok", LinearSolveStatus::Ok)

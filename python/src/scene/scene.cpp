@@ -121,8 +121,8 @@ void DefineScene(py::module_& m) {
           },
           py::arg("actor"),
           "Destroys the actor (an actor object or ActorHandle) and every constraint that "
-          "references it; their Python objects raise mochi.Error afterwards. A stale handle "
-          "raises InvalidHandle.")
+          "references it; their Python objects raise mochi.Error afterwards. A stale handle, or "
+          "one of another scene, raises InvalidHandle.")
       .def(
           "for_each_actor",
           [](SceneRef const& self, py::function const& fn) {
@@ -217,7 +217,8 @@ void DefineScene(py::module_& m) {
           },
           py::arg("constraint"),
           "Destroys a constraint (a constraint object or ConstraintHandle); its Python objects "
-          "raise mochi.Error afterwards. A stale handle raises InvalidHandle.")
+          "raise mochi.Error afterwards. A stale handle, or one of another scene, raises "
+          "InvalidHandle.")
       .def("get_num_constraints",
            [](SceneOwner const& self) { return self.Get().GetNumConstraints(); })
       .def(
@@ -276,6 +277,10 @@ void DefineScene(py::module_& m) {
       .def(
           "get_time", [](SceneOwner const& self) { return self.Get().GetTime(); },
           "Simulated time [s].")
+      .def(
+          "get_id", [](SceneOwner const& self) { return self.Get().GetId(); },
+          "The number stamped on this scene's handles (ActorHandle.scene), unique in the "
+          "process; a handle of another scene raises InvalidHandle here.")
       .def(
           "get_params", [](SceneOwner const& self) { return self.Get().GetParams(); },
           "A copy of the scene's parameters (with the current linear solver).")

@@ -1,5 +1,9 @@
 #include "support/arrays.h"
 
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
 namespace superdex::python {
 
 namespace {
@@ -18,6 +22,39 @@ std::string ShapeText(py::array const& a) {
 bool IsIntegerKind(py::array const& a) {
   char const kind = a.dtype().kind();
   return kind == 'i' || kind == 'u';
+}
+
+/// The integers of `a` (row-major) into `out`, each checked to fit an int
+/// (64-bit indices are never truncated); an entry is named field[i] or, with
+/// `columns` > 0, field[i][j].
+template <class Wide>
+void CopyInts(py::array const& a, std::string const& field, int columns, DynamicArray<int>& out) {
+  auto const values = py::array_t<Wide, py::array::c_style | py::array::forcecast>::ensure(a);
+  out.resize(static_cast<std::size_t>(values.size()));
+  Wide const* data = values.data();
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    bool const fits = std::is_signed_v<Wide>
+                          ? (data[k] >= Wide(std::numeric_limits<int>::min()) &&
+                             data[k] <= Wide(std::numeric_limits<int>::max()))
+                          : data[k] <= Wide(std::numeric_limits<int>::max());
+    if (!fits) {
+      std::string const where = columns > 0 ? "[" + std::to_string(k / columns) + "][" +
+                                                  std::to_string(k % columns) + "]"
+                                            : "[" + std::to_string(k) + "]";
+      Raise(ErrorCode::InvalidArgument, field + where + " = " + std::to_string(data[k]) +
+                                            " does not fit a 32-bit index (at most " +
+                                            std::to_string(std::numeric_limits<int>::max()) + ")");
+    }
+    out[k] = static_cast<int>(data[k]);
+  }
+}
+
+void LoadIntegers(py::array const& a, std::string const& field, int columns, DynamicArray<int>& out) {
+  if (!IsIntegerKind(a)) Raise(ErrorCode::InvalidArgument, field + " must contain integers");
+  if (a.dtype().kind() == 'u')
+    CopyInts<std::uint64_t>(a, field, columns, out);
+  else
+    CopyInts<std::int64_t>(a, field, columns, out);
 }
 
 }  // namespace
@@ -60,13 +97,12 @@ DynamicArray<real> LoadReals(py::handle value, std::string const& field) {
 }
 
 DynamicArray<int> LoadInts(py::handle value, std::string const& field) {
-  DynamicArray<int> out;
   py::array const a = AsArray(value, field);
-  if (a.size() == 0) return out;
+  if (a.size() == 0) return {};
   if (a.ndim() != 1) BadShape(field, "a 1-D sequence of integers", a);
-  if (!IsIntegerKind(a)) Raise(ErrorCode::InvalidArgument, field + " must contain integers");
-  auto values = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(a);
-  return DynamicArray<int>(values.data(), values.data() + values.size());
+  DynamicArray<int> out;
+  LoadIntegers(a, field, 0, out);
+  return out;
 }
 
 DynamicArray<Real3> LoadPoints(py::handle value, std::string const& field) {
@@ -87,9 +123,7 @@ void LoadIntRows(py::handle value, std::string const& field, int columns, Dynami
   if (a.size() == 0) return;
   if (a.ndim() != 2 || a.shape(1) != columns)
     BadShape(field, "an (n, " + std::to_string(columns) + ") array of integers", a);
-  if (!IsIntegerKind(a)) Raise(ErrorCode::InvalidArgument, field + " must contain integers");
-  auto values = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(a);
-  out.assign(values.data(), values.data() + values.size());
+  LoadIntegers(a, field, columns, out);
 }
 
 }  // namespace superdex::python
