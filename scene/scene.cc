@@ -36,6 +36,19 @@ std::string WhyNotFound(internal::SlotMap<T, Tag> const& map, Handle<Tag> h, std
   return "is null or stale";
 }
 
+/// Calls fn on each object of `order`, in order, over a snapshot of their
+/// handles: each is looked up again before its turn, so that fn may create,
+/// destroy or step (an object destroyed meanwhile is skipped, one created is
+/// not visited).
+template <class T, class Tag, class Fn>
+void VisitSnapshot(internal::SlotMap<T, Tag> const& map, DynamicArray<T*> const& order, Fn const& fn) {
+  DynamicArray<Handle<Tag>> handles;
+  handles.reserve(order.size());
+  for (T* object : order) handles.push_back(object->GetHandle());
+  for (Handle<Tag> handle : handles)
+    if (T* object = map.Get(handle)) fn(*object);
+}
+
 /// Scene numbers, unique in the process; 0 is never issued (null handles).
 std::uint32_t NextSceneId() {
   static std::atomic<std::uint32_t> last{0};
@@ -179,14 +192,8 @@ ArticulatedActor* Scene::CreateArticulatedActor(ArticulatedActorParams const& pa
 
 Actor* Scene::GetActor(ActorHandle handle) const { return actors_.Get(handle); }
 
-// Both visits go over a snapshot of handles, so that a callback may create,
-// destroy or step; each object is looked up again before its turn.
 void Scene::VisitActors(std::function<void(Actor&)> const& fn) const {
-  DynamicArray<ActorHandle> handles;
-  handles.reserve(actorOrder_.size());
-  for (Actor* actor : actorOrder_) handles.push_back(actor->GetHandle());
-  for (ActorHandle handle : handles)
-    if (Actor* actor = actors_.Get(handle)) fn(*actor);
+  VisitSnapshot(actors_, actorOrder_, fn);
 }
 
 bool Scene::DestroyActor(ActorHandle handle, Error& error) {
@@ -530,11 +537,7 @@ Constraint* Scene::CreateArticulated3dRotationRangeConstraint(Articulated3dRotat
 Constraint* Scene::GetConstraint(ConstraintHandle handle) const { return constraints_.Get(handle); }
 
 void Scene::VisitConstraints(std::function<void(Constraint&)> const& fn) const {
-  DynamicArray<ConstraintHandle> handles;
-  handles.reserve(constraintOrder_.size());
-  for (Constraint* c : constraintOrder_) handles.push_back(c->GetHandle());
-  for (ConstraintHandle handle : handles)
-    if (Constraint* c = constraints_.Get(handle)) fn(*c);
+  VisitSnapshot(constraints_, constraintOrder_, fn);
 }
 
 void Scene::RemoveConstraint(Constraint* constraint) {

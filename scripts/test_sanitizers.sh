@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
-# The C++ test suite under AddressSanitizer + UndefinedBehaviorSanitizer:
-# builds the library and its Catch2 tests (no examples, perf harness or Python
-# module) into build-asan/ with -fsanitize=address,undefined at -O1, and runs
-# ctest there (without the install test). Any sanitizer report fails the test
-# that produced it. Expects scripts/setup.sh to have run.
+# The C++ test suite under AddressSanitizer + UndefinedBehaviorSanitizer, and
+# the fuzz targets: builds the library, its Catch2 tests and tests/fuzz with
+# clang (-fsanitize=address,undefined and libFuzzer's coverage, -O1; no
+# examples, perf harness or Python module) into build-asan/, and runs ctest
+# there (without the install test). Any sanitizer report fails the test that
+# produced it. Expects scripts/setup.sh to have run. scripts/fuzz.sh then runs
+# the fuzz targets of this build.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source scripts/env.sh
 
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Sanitize \
+CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Sanitize \
   -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1" \
-  -DSUPERDEX_SANITIZE=address,undefined -DSUPERDEX_BUILD_TESTS=ON \
+  -DSUPERDEX_SANITIZE=address,undefined -DSUPERDEX_FUZZ=ON -DSUPERDEX_BUILD_TESTS=ON \
   -DSUPERDEX_BUILD_EXAMPLES=OFF -DSUPERDEX_BUILD_PERF=OFF -DSUPERDEX_BUILD_PYTHON=OFF
 cmake --build build-asan -j"$(nproc)"
 

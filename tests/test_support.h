@@ -40,6 +40,29 @@ inline RigidActor* MakeRigid(Scene& scene, RigidActorParams const& params) {
   return actor;
 }
 
+/// The scene's factory for each kind of actor params.
+inline Actor* CreateActor(Scene& s, RigidActorParams const& p, Error& e) { return s.CreateRigidActor(p, e); }
+inline Actor* CreateActor(Scene& s, DeformableActorParams const& p, Error& e) {
+  return s.CreateDeformableActor(p, e);
+}
+inline Actor* CreateActor(Scene& s, RodActorParams const& p, Error& e) { return s.CreateRodActor(p, e); }
+inline Actor* CreateActor(Scene& s, ArticulatedActorParams const& p, Error& e) {
+  return s.CreateArticulatedActor(p, e);
+}
+
+/// Creating an actor from `params` fails with InvalidArgument, the message
+/// mentions `mention`, and the scene has no new actor.
+template <class Params>
+void RequireActorRefused(Scene& scene, Params const& params, std::string const& mention) {
+  int const before = scene.GetNumActors();
+  Error e;
+  REQUIRE_FALSE(CreateActor(scene, params, e));
+  CAPTURE(e.ToString(), mention);
+  REQUIRE(e.GetCode() == ErrorCode::InvalidArgument);
+  REQUIRE(Mentions(e, mention));
+  REQUIRE(scene.GetNumActors() == before);
+}
+
 inline void StepOk(Scene& scene, real dt, int steps = 1) {
   for (int i = 0; i < steps; ++i) {
     Error error;

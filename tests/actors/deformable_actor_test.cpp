@@ -149,12 +149,7 @@ TEST_CASE("bad deformable input gives an Error naming the element and changes no
   REQUIRE(MakeTetBox(Real3::Zero(), Real3(0.1, 0.1, 0.1), {1, 1, 1}, mesh, error));
   auto scene = MakeScene();
   auto expectError = [&](DeformableActorParams const& p, std::string const& mention) {
-    Error e;
-    REQUIRE_FALSE(scene->CreateDeformableActor(p, e));
-    CAPTURE(e.ToString(), mention);
-    REQUIRE(e.GetCode() == ErrorCode::InvalidArgument);
-    REQUIRE(e.GetMessage().find(mention) != std::string::npos);
-    REQUIRE(scene->GetNumActors() == 0);
+    RequireActorRefused(*scene, p, mention);
   };
   DeformableActorParams good;
   good.nodes = mesh.nodes;

@@ -193,13 +193,8 @@ TEST_CASE("rod masses and stiffnesses that under- or overflow are refused, namin
   auto scene = MakeScene();
   RodActorParams good;
   good.nodes = {Real3(0, 0, 0), Real3(0.5, 0, 0), Real3(1, 0, 0)};
-  auto const expectError = [&](RodActorParams const& p, std::string const& mention) {
-    Error e;
-    REQUIRE_FALSE(scene->CreateRodActor(p, e));
-    CAPTURE(e.ToString(), mention);
-    REQUIRE(e.GetCode() == ErrorCode::InvalidArgument);
-    REQUIRE(Mentions(e, mention));
-    REQUIRE(scene->GetNumActors() == 0);
+  auto const expectError = [&](auto const& p, std::string const& mention) {
+    RequireActorRefused(*scene, p, mention);
   };
   // before: each was accepted, and the first step failed
   RodActorParams p = good;
@@ -232,13 +227,8 @@ TEST_CASE("rod masses and stiffnesses that under- or overflow are refused, namin
 
 TEST_CASE("articulated initial states and axes that overflow are refused", "[scene][input][articulated]") {
   auto scene = MakeScene();
-  auto const expectError = [&](ArticulatedActorParams const& p, std::string const& mention) {
-    Error e;
-    REQUIRE_FALSE(scene->CreateArticulatedActor(p, e));
-    CAPTURE(e.ToString(), mention);
-    REQUIRE(e.GetCode() == ErrorCode::InvalidArgument);
-    REQUIRE(Mentions(e, mention));
-    REQUIRE(scene->GetNumActors() == 0);
+  auto const expectError = [&](auto const& p, std::string const& mention) {
+    RequireActorRefused(*scene, p, mention);
   };
   ArticulatedActorParams p;
   p.links.resize(1);

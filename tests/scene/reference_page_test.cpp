@@ -1,7 +1,8 @@
 // The reference page's code compiles as written and runs: every code block of
-// the page (the project's spec/constraints.md and the original page it was
-// taken from), verbatim between the BEGIN/END markers, with only the actors
-// it names set up before and its results checked after.
+// the original page the project's spec/constraints.md was taken from,
+// verbatim between the BEGIN/END markers, with only the actors it names set
+// up before and its results checked after. (The spec's own block, the three
+// creation examples in one scope, is tests/constraints/reference_examples_test.)
 #include "test_scenes.h"
 
 // the page's snippets name results they do not use
@@ -48,44 +49,6 @@ Constraint* MakeJoint(PageSetUp& s) {
 }
 
 }  // namespace
-
-TEST_CASE("spec/constraints.md: the code examples", "[scene][reference_page]") {
-  PageSetUp s;
-  auto& scene = s.scene;
-  Error& error = s.error;
-  DeformableActor* softActor = s.softActor;
-  RigidActor *bodyA = s.bodyA, *bodyB = s.bodyB, *rigidActor = s.rigidActor;
-  // BEGIN spec/constraints.md "Code examples (C++ API shape)"
-  // Pin a soft-body node (DeformableNodePosition)
-  DeformableNodePositionConstraintParams params;
-  params.actor = softActor->GetHandle();
-  params.nodeIndex = 0;
-  params.position = Real3{0_r, 1_r, 0_r};
-  params.stiffness = 1e6_r;
-  Constraint* c = scene->CreateDeformableNodePositionConstraint(params, error);
-
-  // Ball-and-socket between two rigid bodies (RigidSphericalJoint)
-  RigidSphericalJointConstraintParams p;
-  p.actorA = bodyA->GetHandle();  p.actorB = bodyB->GetHandle();
-  p.localPosA = Real3{0.5_r, 0_r, 0_r};  p.localPosB = Real3{-0.5_r, 0_r, 0_r};
-  p.stiffness = 1e6_r;
-  Constraint* j = scene->CreateRigidSphericalJointConstraint(p, error);
-
-  // Attach a deformable node to a rigid handle (DeformableNodeToRigid)
-  DeformableNodeToRigidConstraintParams a;
-  a.deformableActor = softActor->GetHandle();  a.rigidActor = rigidActor->GetHandle();
-  a.deformableNodeIndex = 10;  a.fixToDeformablePos = true;  a.stiffness = 1e4_r;
-  Constraint* att = scene->CreateDeformableNodeToRigidConstraint(a, error);
-  // END
-  INFO(error.ToString());
-  REQUIRE(c);
-  REQUIRE(j);
-  REQUIRE(att);
-  REQUIRE(c->GetType() == ConstraintType::DeformableNodePosition);
-  REQUIRE(j->GetType() == ConstraintType::RigidSphericalJoint);
-  REQUIRE(att->GetType() == ConstraintType::DeformableNodeToRigid);
-  StepOk(*scene, 1e-3);
-}
 
 TEST_CASE("the original page: the three creation examples", "[scene][reference_page]") {
   PageSetUp s;

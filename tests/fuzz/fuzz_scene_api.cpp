@@ -1,0 +1,432 @@
+// The Scene API driven by arbitrary bytes: a sequence of create / set / step
+// / destroy calls on two scenes, with handles and pointers drawn from every
+// object either scene ever issued (live, destroyed, or of the other scene),
+// values drawn from a table of hostile numbers (NaN, ±inf, 5e-324, 1e300, …),
+// destruction and stepping inside ForEach callbacks. Checked after every
+// call: nothing crashes or throws, and a call that fails leaves both scenes
+// bit-identical (docs/lifetime.md).
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "fuzz_support.h"
+
+using namespace superdex;
+using namespace superdex::fuzz;
+
+namespace {
+
+/// The input, read front to back; zeros once it is used up.
+class Input {
+ public:
+  Input(std::uint8_t const* data, std::size_t size) : data_(data), size_(size) {}
+  bool Done() const { return pos_ >= size_; }
+  std::uint8_t Byte() { return pos_ < size_ ? data_[pos_++] : 0; }
+  int Int(int n) { return n > 0 ? Byte() % n : 0; }
+  /// A value from the hostile table, or 8 raw bytes.
+  real Real() {
+    static constexpr real kInf = std::numeric_limits<real>::infinity();
+    static real const kTable[] = {0,     1,      -1,    0.5,    1e-3,   10,     1e6,   1e9,    1e300,
+                                  -1e300, 1e-300, 5e-324, kInf,  -kInf,  std::numeric_limits<real>::quiet_NaN(),
+                                  0.1,   -0.25,  2,     1e200, 3.14159265358979};
+    int const pick = Byte();
+    if (pick < 240) return kTable[pick % std::size(kTable)];
+    std::uint64_t bits = 0;
+    for (int k = 0; k < 8; ++k) bits = bits << 8 | Byte();
+    real value;
+    std::memcpy(&value, &bits, sizeof value);
+    return value;
+  }
+  Real3 Vector() { return Real3(Real(), Real(), Real()); }
+  /// Mostly unit quaternions, sometimes hostile ones.
+  Quat Rotation() {
+    if (Int(4) != 0) {
+      Real3 axis(Int(7) - 3, Int(7) - 3, Int(7) - 3);
+      if (axis.isZero()) return Quat::Identity();
+      return Quat(Eigen::AngleAxis<real>(0.1 * Int(60), axis.normalized()));
+    }
+    return Quat(Real(), Real(), Real(), Real());
+  }
+
+ private:
+  std::uint8_t const* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
+};
+
+/// Everything a scene issued, live or not.
+struct Issued {
+  std::vector<ActorHandle> actors;
+  std::vector<ConstraintHandle> constraints;
+  std::vector<Constraint*> pointers;  ///< passed only to DestroyConstraint(Constraint*)
+};
+
+/// The scenes' observable state, bit for bit.
+std::vector<std::uint8_t> Digest(Scene const& scene) {
+  std::vector<std::uint8_t> out;
+  auto put = [&](auto const& value) {
+    std::size_t const at = out.size();
+    out.resize(at + sizeof value);
+    std::memcpy(out.data() + at, &value, sizeof value);
+  };
+  auto putVector = [&](Real3 const& v) {
+    for (int k = 0; k < 3; ++k) put(v[k]);
+  };
+  put(scene.GetNumActors());
+  put(scene.GetNumConstraints());
+  put(scene.GetNumDofs());
+  put(scene.GetTime());
+  put(static_cast<int>(scene.GetParams().linearSolver));
+  scene.ForEachActor([&](Actor& actor) {
+    put(actor.GetHandle());
+    put(static_cast<int>(actor.GetType()));
+    switch (actor.GetType()) {
+      case ActorType::Rigid: {
+        auto const& r = static_cast<RigidActor&>(actor);
+        putVector(r.GetPosition());
+        put(r.GetRotation().coeffs()[0]);
+        put(r.GetRotation().coeffs()[1]);
+        put(r.GetRotation().coeffs()[2]);
+        put(r.GetRotation().coeffs()[3]);
+        putVector(r.GetLinearVelocity());
+        putVector(r.GetAngularVelocity());
+        break;
+      }
+      case ActorType::Deformable:
+      case ActorType::Rod: {
+        auto const& n = static_cast<NodalActor&>(actor);
+        for (int i = 0; i < n.GetNumNodes(); ++i) {
+          putVector(n.GetNodePosition(i));
+          putVector(n.GetNodeVelocity(i));
+        }
+        break;
+      }
+      case ActorType::Articulated: {
+        auto const& a = static_cast<ArticulatedActor&>(actor);
+        for (real q : a.GetJointPositions()) put(q);
+        for (real v : a.GetJointVelocities()) put(v);
+        break;
+      }
+    }
+  });
+  scene.ForEachConstraint([&](Constraint& c) {
+    put(c.GetHandle());
+    put(c.GetStiffness());
+    put(c.GetDamping());
+    put(c.GetSaturation());
+    for (real g : c.GetDeviation()) put(g);
+  });
+  return out;
+}
+
+class Driver {
+ public:
+  explicit Driver(Input& in) : in_(in) {
+    for (int s = 0; s < 2; ++s) {
+      SceneParams params;
+      params.newton.maxIterations = 25;  // keeps hostile steps short
+      Error error;
+      scenes_[s] = Scene::Create(params, error);
+      Expect(scenes_[s] != nullptr, "Scene::Create failed", error.ToString());
+    }
+  }
+
+  void Run() {
+    for (int call = 0; call < 48 && !in_.Done(); ++call) {
+      int const s = in_.Int(2);
+      Scene& scene = *scenes_[s];
+      std::vector<std::uint8_t> const before[2] = {Digest(*scenes_[0]), Digest(*scenes_[1])};
+      bool const ok = Call(s, scene);
+      if (!ok) {
+        Expect(Digest(*scenes_[0]) == before[0] && Digest(*scenes_[1]) == before[1],
+               "a failed call changed a scene", lastCall_);
+      }
+    }
+  }
+
+ private:
+  /// One call on scene s; returns false when it failed (an Error).
+  bool Call(int s, Scene& scene) {
+    Error error;
+    bool ok = true;
+    switch (in_.Int(16)) {
+      case 0: {
+        lastCall_ = "CreateRigidActor";
+        RigidActorParams p;
+        p.mass = in_.Int(4) ? 1 : in_.Real();
+        if (!in_.Int(4)) p.inertia = in_.Vector();
+        p.position = Real3(0.3 * in_.Int(8), 0, 0);
+        if (!in_.Int(4)) p.rotation = in_.Rotation();
+        if (!in_.Int(4)) p.linearVelocity = in_.Vector();
+        ok = Track(s, scene.CreateRigidActor(p, error));
+        break;
+      }
+      case 1: {
+        lastCall_ = "CreateDeformableActor";
+        DeformableActorParams p;
+        TetMesh mesh;
+        Expect(MakeTetBox(Real3(0, 1, 0), Real3(0.1, 0.1, 0.1), {1, 1, 1}, mesh, error), "MakeTetBox");
+        p.nodes = mesh.nodes;
+        p.tetrahedra = mesh.tetrahedra;
+        if (!in_.Int(3)) p.density = in_.Real();
+        if (!in_.Int(3)) p.youngModulus = in_.Real();
+        if (!in_.Int(4)) p.tetrahedra[in_.Int(6)][in_.Int(4)] = in_.Int(12) - 2;
+        if (!in_.Int(4)) p.nodes[in_.Int(8)] = in_.Vector();
+        ok = Track(s, scene.CreateDeformableActor(p, error));
+        break;
+      }
+      case 2: {
+        lastCall_ = "CreateRodActor";
+        RodActorParams p;
+        p.nodes = {Real3(0, 2, 0), Real3(0.1, 2, 0), Real3(0.2, 2, 0)};
+        if (!in_.Int(3)) p.radius = in_.Real();
+        if (!in_.Int(3)) p.density = in_.Real();
+        if (!in_.Int(4)) p.nodes[in_.Int(3)] = in_.Vector();
+        ok = Track(s, scene.CreateRodActor(p, error));
+        break;
+      }
+      case 3: {
+        lastCall_ = "CreateArticulatedActor";
+        ArticulatedActorParams p;
+        p.links.resize(1 + in_.Int(2));
+        for (std::size_t i = 0; i < p.links.size(); ++i) {
+          ArticulatedLinkParams& l = p.links[i];
+          l.parent = static_cast<int>(i) - 1;
+          l.joint = static_cast<JointType>(in_.Int(6));  // one past the last: an invalid value
+          l.jointToChildPosition = Real3(0.2, 0, 0);
+          if (!in_.Int(3)) l.axis = in_.Vector();
+          if (!in_.Int(3)) l.initialPosition.assign(in_.Int(7), in_.Real());
+        }
+        ok = Track(s, scene.CreateArticulatedActor(p, error));
+        break;
+      }
+      case 4:
+      case 5:
+        ok = CreateConstraint(s, scene, error);
+        break;
+      case 6:
+        lastCall_ = "DestroyActor";
+        ok = scene.DestroyActor(PickActor(s), error);
+        break;
+      case 7:
+        lastCall_ = "DestroyConstraint(handle)";
+        ok = scene.DestroyConstraint(PickConstraint(s), error);
+        break;
+      case 8: {
+        lastCall_ = "DestroyConstraint(pointer)";
+        // live, destroyed (never dereferenced by the scene) or the other scene's
+        Issued const& from = issued_[in_.Int(2)];
+        Constraint* pointer = from.pointers.empty() ? nullptr : from.pointers[in_.Int(256) % from.pointers.size()];
+        ok = scene.DestroyConstraint(pointer, error);
+        break;
+      }
+      case 9: {
+        lastCall_ = "a runtime setter";
+        Constraint* c = scene.GetConstraint(PickConstraint(s));  // only live ones are used
+        if (!c) return true;
+        switch (in_.Int(9)) {
+          case 0: ok = c->SetStiffness(in_.Real(), error); break;
+          case 1: ok = c->SetDamping(in_.Real(), error); break;
+          case 2: ok = c->SetSaturation(in_.Real(), error); break;
+          case 3: ok = c->SetTargetPosition(in_.Vector(), error); break;
+          case 4: ok = c->SetTargetRotation(in_.Rotation(), error); break;
+          case 5: ok = c->SetTargetDof(in_.Real(), error); break;
+          case 6: ok = c->UpdateOldTarget(error); break;
+          case 7: ok = c->RegisterQuery(static_cast<QueryType>(in_.Int(3)), error); break;
+          case 8: ok = c->SetHessianApproximation(static_cast<ConstraintHessian>(in_.Int(4)), error); break;
+        }
+        // a query registered or not: reading the force never crashes
+        Error ignored;
+        (void)c->GetForce(ignored);
+        break;
+      }
+      case 10:
+      case 11: {
+        lastCall_ = "Step";
+        static real const kDt[] = {1e-3, 1.0 / 60, 1.0 / 30, 0, -1e-3, std::nan(""), 1e300};
+        ok = scene.Step(kDt[in_.Int(7)], error);
+        break;
+      }
+      case 12: {
+        lastCall_ = "ForEachConstraint with destruction";
+        int const every = 1 + in_.Int(3);
+        int visited = 0;
+        scene.ForEachConstraint([&](Constraint* c) {
+          Expect(scene.GetConstraint(c->GetHandle()) == c, "ForEachConstraint visited a dead constraint");
+          Error e;
+          if (visited++ % every == 0) scene.DestroyConstraint(c, e);
+        });
+        break;
+      }
+      case 13: {
+        lastCall_ = "ForEachActor with destruction and creation";
+        int const every = 1 + in_.Int(3);
+        int visited = 0;
+        scene.ForEachActor([&](Actor& a) {
+          Expect(scene.GetActor(a.GetHandle()) == &a, "ForEachActor visited a dead actor");
+          Error e;
+          if (visited++ % every == 0) {
+            scene.DestroyActor(a.GetHandle(), e);
+            Track(s, scene.CreateRigidActor({}, e));
+          }
+        });
+        break;
+      }
+      case 14: {
+        lastCall_ = "Step inside ForEachActor";
+        bool first = true;
+        scene.ForEachActor([&](Actor&) {
+          Error e;
+          if (first) scene.Step(1e-3, e);
+          first = false;
+        });
+        break;
+      }
+      case 15: {
+        lastCall_ = "SetLinearSolver";
+        PcgParams pcg;
+        pcg.preconditioner = static_cast<PcgPreconditioner>(in_.Int(10));
+        if (!in_.Int(3)) pcg.relativeTolerance = in_.Real();
+        if (!in_.Int(3)) pcg.maxIterations = in_.Int(256) - 16;
+        ok = scene.SetLinearSolver(static_cast<LinearSolverType>(in_.Int(6)), pcg, error);
+        break;
+      }
+    }
+    if (!ok) Expect(static_cast<bool>(error), "a failed call set no Error", lastCall_);
+    return ok;
+  }
+
+  bool CreateConstraint(int s, Scene& scene, Error& error) {
+    real const k = in_.Int(3) ? 1e4 : in_.Real();
+    real const d = in_.Int(3) ? 0 : in_.Real();
+    auto fill = [&](auto& p) {
+      p.stiffness = k;
+      p.damping = d;
+      if (!in_.Int(4)) p.saturation = in_.Real();
+    };
+    Constraint* c = nullptr;
+    switch (in_.Int(8)) {
+      case 0: {
+        lastCall_ = "CreateRigidSphericalJointConstraint";
+        RigidSphericalJointConstraintParams p;
+        p.actorA = PickActor(s);
+        p.actorB = PickActor(s);
+        p.localPosA = Real3(0.1, 0, 0);
+        if (!in_.Int(4)) p.localPosB = in_.Vector();
+        fill(p);
+        c = scene.CreateRigidSphericalJointConstraint(p, error);
+        break;
+      }
+      case 1: {
+        lastCall_ = "CreateRigidPivotPositionConstraint";
+        RigidPivotPositionConstraintParams p;
+        p.actor = PickActor(s);
+        if (!in_.Int(4)) p.position = in_.Vector();
+        fill(p);
+        c = scene.CreateRigidPivotPositionConstraint(p, error);
+        break;
+      }
+      case 2: {
+        lastCall_ = "CreateRigidPivotRotationConstraint";
+        RigidPivotRotationConstraintParams p;
+        p.actor = PickActor(s);
+        p.rotation = in_.Rotation();
+        fill(p);
+        c = scene.CreateRigidPivotRotationConstraint(p, error);
+        break;
+      }
+      case 3: {
+        lastCall_ = "CreateDeformableNodePositionConstraint";
+        DeformableNodePositionConstraintParams p;
+        p.actor = PickActor(s);
+        p.nodeIndex = in_.Int(12) - 2;
+        if (!in_.Int(4)) p.position = in_.Vector();
+        fill(p);
+        c = scene.CreateDeformableNodePositionConstraint(p, error);
+        break;
+      }
+      case 4: {
+        lastCall_ = "CreateDeformableNodeToRigidConstraint";
+        DeformableNodeToRigidConstraintParams p;
+        p.deformableActor = PickActor(s);
+        p.rigidActor = PickActor(s);
+        p.deformableNodeIndex = in_.Int(10) - 1;
+        p.fixToDeformablePos = in_.Int(2);
+        fill(p);
+        c = scene.CreateDeformableNodeToRigidConstraint(p, error);
+        break;
+      }
+      case 5: {
+        lastCall_ = "CreateDeformableNodeToDeformableNodeConstraint";
+        DeformableNodeToDeformableNodeConstraintParams p;
+        p.actorA = PickActor(s);
+        p.actorB = PickActor(s);
+        p.nodeIndexA = in_.Int(10) - 1;
+        p.nodeIndexB = in_.Int(10) - 1;
+        fill(p);
+        c = scene.CreateDeformableNodeToDeformableNodeConstraint(p, error);
+        break;
+      }
+      case 6: {
+        lastCall_ = "CreateArticulatedSingleDofTargetConstraint";
+        ArticulatedSingleDofTargetConstraintParams p;
+        p.actor = PickActor(s);
+        p.jointIndex = in_.Int(4) - 1;
+        p.dofIndex = in_.Int(4) - 1;
+        p.target = in_.Real();
+        fill(p);
+        c = scene.CreateArticulatedSingleDofTargetConstraint(p, error);
+        break;
+      }
+      case 7: {
+        lastCall_ = "CreateJointRotationRangeConstraint";
+        JointRotationRangeConstraintParams p;
+        p.actorA = PickActor(s);
+        p.actorB = PickActor(s);
+        p.lowerLimits = in_.Vector();
+        p.upperLimits = in_.Vector();
+        fill(p);
+        c = scene.CreateJointRotationRangeConstraint(p, error);
+        break;
+      }
+    }
+    if (!c) return false;
+    issued_[s].constraints.push_back(c->GetHandle());
+    issued_[s].pointers.push_back(c);
+    return true;
+  }
+
+  bool Track(int s, Actor* actor) {
+    if (!actor) return false;
+    issued_[s].actors.push_back(actor->GetHandle());
+    return true;
+  }
+
+  /// Mostly one of this scene's handles (live or stale), else the other
+  /// scene's, a null one, or one built from numbers (scene 0).
+  template <class H>
+  H Pick(int s, std::vector<H> Issued::*pool) {
+    std::vector<H> const& from = issued_[in_.Int(8) == 0 ? 1 - s : s].*pool;
+    switch (in_.Int(16)) {
+      case 0: return {};
+      case 1: return H{static_cast<std::uint32_t>(in_.Int(4)), 1};
+      default: return from.empty() ? H{} : from[in_.Int(256) % from.size()];
+    }
+  }
+  ActorHandle PickActor(int s) { return Pick(s, &Issued::actors); }
+  ConstraintHandle PickConstraint(int s) { return Pick(s, &Issued::constraints); }
+
+  Input& in_;
+  std::unique_ptr<Scene> scenes_[2];
+  Issued issued_[2];
+  std::string lastCall_;
+};
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size) {
+  Input in(data, size);
+  Driver driver(in);
+  driver.Run();
+  return 0;
+}
