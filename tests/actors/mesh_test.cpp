@@ -580,12 +580,14 @@ TEST_CASE("ReadObj: one face of 400,000 vertices, and a vertex repeated in it", 
       std::filesystem::temp_directory_path() / ("superdex_mesh_big_face_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   int const n = 400000;
-  std::string vertices, face = "f";
+  std::ostringstream vertexLines, faceLine;
+  faceLine << "f";
   for (int i = 0; i < n; ++i) {
     real const angle = 2 * std::numbers::pi_v<real> * i / n;
-    vertices += "v " + std::to_string(std::cos(angle)) + " " + std::to_string(std::sin(angle)) + " 0\n";
-    face += " " + std::to_string(i + 1);
+    vertexLines << "v " << std::cos(angle) << " " << std::sin(angle) << " 0\n";
+    faceLine << " " << i + 1;
   }
+  std::string const vertices = vertexLines.str(), face = faceLine.str();
   std::string const good = (dir / "good.obj").string(), bad = (dir / "bad.obj").string();
   std::ofstream(good) << vertices << face << "\n";
   // vertex 7 again near the end
