@@ -59,6 +59,12 @@ elif [[ -n ${_superdex_coretype} ]] &&
   fi
 fi
 
+# Build parallelism for the scripts: every CPU this process may use, counted
+# without the OpenMP variables (set below), which GNU nproc honours: with
+# OMP_THREAD_LIMIT=1, `nproc` says 1 and the builds ran on one core.
+SUPERDEX_BUILD_JOBS=$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)
+export SUPERDEX_BUILD_JOBS
+
 # Debian's CHOLMOD opens an OpenMP team of 4 threads (fixed at its build) on
 # every factorization, on top of OpenBLAS's own threads. On this 2-core
 # machine that costs 40–60 µs per small factorization (docs/linear_solvers.md)

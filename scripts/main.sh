@@ -11,7 +11,7 @@ source scripts/env.sh
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 # the main job needs the library and the harness only
-cmake --build build -j"$(nproc)" --target superdex_perf
+cmake --build build -j"${SUPERDEX_BUILD_JOBS}" --target superdex_perf
 
 rm -rf results/perf
 status=0

@@ -12,7 +12,7 @@ bash scripts/setup.sh
 source scripts/env.sh
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSUPERDEX_BUILD_TESTS=ON
-cmake --build build -j"$(nproc)"
+cmake --build build -j"${SUPERDEX_BUILD_JOBS}"
 
 status=0
 ctest --test-dir build --output-on-failure -j2 || status=$?

@@ -14,7 +14,7 @@ CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Sanitize \
   -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1" \
   -DSUPERDEX_SANITIZE=address,undefined -DSUPERDEX_FUZZ=ON -DSUPERDEX_BUILD_TESTS=ON \
   -DSUPERDEX_BUILD_EXAMPLES=OFF -DSUPERDEX_BUILD_PERF=OFF -DSUPERDEX_BUILD_PYTHON=OFF
-cmake --build build-asan -j"$(nproc)"
+cmake --build build-asan -j"${SUPERDEX_BUILD_JOBS}"
 
 # LeakSanitizer is off: Open MPI (initialized by PETSc) leaks from plugins it
 # has unloaded by exit, whose stacks cannot be symbolized or suppressed

@@ -2,6 +2,7 @@
 // (the same cube from every format; every malformed file rejected with the
 // file name and line number, the mesh unchanged) and structural validation.
 #include <superdex/actors/mesh.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -572,6 +573,18 @@ TEST_CASE("readers: special files give an Error, never an exception or an unboun
   }
   // /dev/null: an empty file
   SECTION("/dev/null") { readAll("/dev/null"); }
+  // a FIFO nobody writes to: before, opening it blocked forever
+  SECTION("a FIFO without a writer") {
+    std::string const fifo =
+        (std::filesystem::temp_directory_path() / ("superdex_mesh_fifo_" + std::to_string(getpid()))).string();
+    REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
+    Error error;
+    TriangleMesh mesh = SentinelTriangles();
+    REQUIRE_FALSE(ReadObj(fifo, mesh, error));
+    REQUIRE(Mentions(error, fifo + ":1: no faces"));  // read as an empty file
+    REQUIRE(Same(mesh, SentinelTriangles()));
+    std::filesystem::remove(fifo);
+  }
 }
 
 TEST_CASE("ReadObj: one face of 400,000 vertices, and a vertex repeated in it", "[actors][mesh][io]") {
