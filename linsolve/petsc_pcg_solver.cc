@@ -183,11 +183,14 @@ void PetscPcgSolver::SetNearNullSpace(MatrixX const& modes) {
   if (!impl.matrix || modes.rows() != impl.size || modes.cols() == 0) return;
   // orthonormal basis of the modes' span (PETSc requires it), dropping
   // directions that are numerically dependent (e.g. rotations of one node)
+  // (a system of fewer unknowns than modes, e.g. one revolute joint against
+  // the six rigid-body modes, spans at most `rows` directions)
   Eigen::HouseholderQR<MatrixX> qr(modes);
-  MatrixX const q = qr.householderQ() * MatrixX::Identity(modes.rows(), modes.cols());
+  Eigen::Index const rank = std::min(modes.rows(), modes.cols());
+  MatrixX const q = qr.householderQ() * MatrixX::Identity(modes.rows(), rank);
   real const largest = qr.matrixQR().diagonal().cwiseAbs().maxCoeff();
   DynamicArray<Vec> vectors;
-  for (Eigen::Index k = 0; k < modes.cols(); ++k) {
+  for (Eigen::Index k = 0; k < rank; ++k) {
     if (std::abs(qr.matrixQR()(k, k)) <= 1e-10 * largest) continue;
     Vec v = nullptr;
     if (VecCreateSeq(PETSC_COMM_SELF, impl.size, &v) != 0) break;

@@ -451,3 +451,23 @@ TEST_CASE("PcgParams.options override GAMG's default smoother bounds", "[scene][
   REQUIRE(Contains(error.GetMessage(), "KSP_DIVERGED_INDEFINITE_PC"));
   REQUIRE(b.scene->GetStats().steps == 0);
 }
+
+TEST_CASE("GAMG on a system smaller than the six rigid-body modes steps (found by fuzz_scene_api)",
+          "[scene][pcg][gamg]") {
+  // one revolute joint: a 1-DoF system against 6 near-null-space modes;
+  // before, the orthonormalization read the QR factor's diagonal past its
+  // end (an Eigen assertion in a debug or sanitizer build)
+  SceneParams params;
+  params.linearSolver = LinearSolverType::PetscPcg;
+  params.pcg.preconditioner = PcgPreconditioner::Gamg;
+  std::unique_ptr<Scene> scene = MakeScene(params);
+  ArticulatedActorParams arm;
+  arm.links.resize(1);
+  arm.links[0].jointToChildPosition = Real3(0.5, 0, 0);
+  Error error;
+  ArticulatedActor* actor = scene->CreateArticulatedActor(arm, error);
+  REQUIRE(actor);
+  REQUIRE(scene->GetNumDofs() == 1);
+  StepOk(*scene, 1e-2, 3);
+  REQUIRE(actor->GetJointPositions()[0] < 0);  // it swings down under gravity
+}
