@@ -35,10 +35,23 @@
 //   κ̄, m̄ come from the rest shape and rest material frames (natural
 //   curvature and twist).
 //
-// The stencil's 8 variables are (eₐ, e_b, θₐ, θ_b); its gradient and exact
-// Hessian come from second-order forward differentiation (core/jet.h) and are
-// mapped to the 11 DoFs [xᵢ₋₁, θᵢ₋₁, xᵢ, θᵢ, xᵢ₊₁]. The projected Hessian is
-// the 8×8 one clamped to its non-negative eigenvalues, then mapped.
+// The stencil's 8 variables are its two edges and two twists. Each element's
+// frame depends on its own 4 only; with [d₁ d₂ t] right-handed and
+// c = 1 + tₐ·t_b, every strain is a function of dot products pairing a vector
+// of element a with one of element b:
+//
+//   κ₁ = (tₐ·d₂ᵇ − t_b·d₂ᵃ)/c,   κ₂ = (t_b·d₁ᵃ − tₐ·d₁ᵇ)/c,
+//   m_ref = atan2(s tₐ·v_b − uₐ·v_b, uₐ·u_b − s tₐ·u_b),   s = (t_b·uₐ)/c.
+//
+// The exact gradient and Hessian are written out by the chain rule: each
+// frame's first and second derivatives over its element's 4 variables in
+// closed form, each cross dot product's over the 8 from its block structure
+// (∇(x·y) = [J_xᵀ y; J_yᵀ x], ∇²(x·y) = [Σ yₖ∇²xₖ, J_xᵀJ_y; ·, Σ xₖ∇²yₖ]), then
+// the quotient and atan2 rules (rod_element.cc has the derivation). The 8×8
+// result maps to the 11 DoFs [xᵢ₋₁, θᵢ₋₁, xᵢ, θᵢ, xᵢ₊₁]. The projected Hessian
+// is the 8×8 one clamped to its non-negative eigenvalues, then mapped.
+// RodBendTwistGradientHessianJet, the same function differentiated with
+// second-order forward-mode jets (core/jet.h), is the tests' reference.
 #pragma once
 
 #include <array>
@@ -112,10 +125,24 @@ void RodStretchGradientHessian(real stiffness, real restLength, Real3 const& edg
 real RodBendTwistEnergy(RodStiffness const& k, RodStencilRest const& rest, Real3 const& edgeA,
                         Real3 const& edgeB, real thetaA, real thetaB, RodReferenceFrame const& refA,
                         RodReferenceFrame const& refB, real refTwistStart);
-/// Gradient and Hessian w.r.t. [xᵢ₋₁, θᵢ₋₁, xᵢ, θᵢ, xᵢ₊₁].
+/// Gradient and exact Hessian of RodBendTwistEnergy w.r.t. [xᵢ₋₁, θᵢ₋₁, xᵢ, θᵢ,
+/// xᵢ₊₁]; `project` clamps the 8×8 Hessian over (eₐ, θₐ, e_b, θ_b) to its
+/// non-negative eigenvalues before mapping it. The gradient does not depend on
+/// `project`.
 void RodBendTwistGradientHessian(RodStiffness const& k, RodStencilRest const& rest, Real3 const& edgeA,
                                  Real3 const& edgeB, real thetaA, real thetaB, RodReferenceFrame const& refA,
                                  RodReferenceFrame const& refB, real refTwistStart, Vector11& gradient,
                                  Matrix11& hessian, bool project);
+
+/// The reference implementation of RodBendTwistGradientHessian, the same
+/// function differentiated the plain way: the frames lifted to 8-variable jets
+/// and every operation of the strain (cross product, sums, the transported
+/// director, atan2) a full Jet<8> operation. About 10 times slower; kept for
+/// the tests and perf/rod_stencil, which compare the two.
+void RodBendTwistGradientHessianJet(RodStiffness const& k, RodStencilRest const& rest,
+                                    Real3 const& edgeA, Real3 const& edgeB, real thetaA,
+                                    real thetaB, RodReferenceFrame const& refA,
+                                    RodReferenceFrame const& refB, real refTwistStart,
+                                    Vector11& gradient, Matrix11& hessian, bool project);
 
 }  // namespace superdex::internal
