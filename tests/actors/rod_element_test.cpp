@@ -4,10 +4,13 @@
 // differences of the analytic gradient), the material frame's angular
 // Jacobian and its rigid-rotation twist, on near-straight and strongly bent
 // stencils with the stage reference frames held fixed, as the solver holds them.
+// The hand-differentiated bending–twisting kernel also against its Jet<8>
+// reference (RodBendTwistGradientHessianJet), on those and random stencils.
 #include "test_support.h"
 #include "white_box.h"
 
 #include <Eigen/Eigenvalues>
+#include <numbers>
 #include <random>
 
 using namespace superdex;
@@ -50,6 +53,7 @@ struct StencilFunction {
   internal::RodStencilRest rest;
   internal::RodReferenceFrame refA, refB;
   real refTwistStart;
+  internal::RodStiffness stiffness = kStiffness;
 
   static void Split(Vector11 const& q, Real3& edgeA, Real3& edgeB, real& thetaA, real& thetaB) {
     edgeA = q.segment<3>(4) - q.segment<3>(0);
@@ -61,50 +65,96 @@ struct StencilFunction {
     Real3 a, b;
     real ta, tb;
     Split(q, a, b, ta, tb);
-    return internal::RodBendTwistEnergy(kStiffness, rest, a, b, ta, tb, refA, refB, refTwistStart);
+    return internal::RodBendTwistEnergy(stiffness, rest, a, b, ta, tb, refA, refB, refTwistStart);
   }
+  /// The fast kernel (what the rod actor calls).
   void GradientHessian(Vector11 const& q, Vector11& g, Matrix11& h, bool project) const {
     Real3 a, b;
     real ta, tb;
     Split(q, a, b, ta, tb);
-    internal::RodBendTwistGradientHessian(kStiffness, rest, a, b, ta, tb, refA, refB, refTwistStart, g, h,
-                                          project);
+    internal::RodBendTwistGradientHessian(stiffness, rest, a, b, ta, tb, refA, refB, refTwistStart,
+                                          g, h, project);
+  }
+  /// The Jet<8> reference implementation.
+  void GradientHessianJet(Vector11 const& q, Vector11& g, Matrix11& h, bool project) const {
+    Real3 a, b;
+    real ta, tb;
+    Split(q, a, b, ta, tb);
+    internal::RodBendTwistGradientHessianJet(stiffness, rest, a, b, ta, tb, refA, refB,
+                                             refTwistStart, g, h, project);
   }
 };
 
-Vector11 StencilDofs(Stencil const& s) {
+Vector11 StencilDofs(Real3 const& x0, Real3 const& edgeA, Real3 const& edgeB, real thetaA,
+                     real thetaB) {
   Vector11 q;
-  q << 0.1, -0.2, 0.3, s.thetaA, Real3(0.1, -0.2, 0.3) + s.edgeA, s.thetaB, Real3(0.1, -0.2, 0.3) + s.edgeA + s.edgeB;
+  q << x0, thetaA, x0 + edgeA, thetaB, x0 + edgeA + edgeB;
   return q;
 }
 
-}  // namespace
+Vector11 StencilDofs(Stencil const& s) {
+  return StencilDofs(Real3(0.1, -0.2, 0.3), s.edgeA, s.edgeB, s.thetaA, s.thetaB);
+}
 
-TEST_CASE("rod bending-twisting energy: gradient and exact Hessian match central differences",
-          "[actors][rod][derivatives]") {
-  Stencil const s = GENERATE(from_range(std::begin(kStencils), std::end(kStencils)));
-  bool const naturalCurvature = GENERATE(false, true);
-  CAPTURE(s.name, naturalCurvature);
+/// One of the fixed stencils as the derivative tests set it up: stage frames
+/// tilted 0.15–0.2 rad off the current tangents (the transport term is
+/// exercised), with or without natural curvature.
+StencilFunction FixedStencilFunction(Stencil const& s, bool naturalCurvature) {
   StencilFunction f;
-  // stage frames tilted away from the current tangents by 0.15–0.2 rad: the
-  // transport term is exercised
   f.refA = TiltedFrame(s.edgeA, Real3(0.3, 1, -0.2), 0.2, 0.4);
   f.refB = TiltedFrame(s.edgeB, Real3(-1, 0.2, 0.5), 0.15, -1.1);
   f.refTwistStart = internal::RodReferenceTwist(s.edgeA, s.edgeB, f.refA, f.refB, 0);
   f.rest.voronoiLength = 0.95;
   f.rest.strain = naturalCurvature ? Real3(0.3, -0.2, 0.1) : Real3::Zero();
-  Vector11 const q = StencilDofs(s);
+  return f;
+}
 
-  Vector11 g;
-  Matrix11 h;
-  f.GradientHessian(q, g, h, false);
-  REQUIRE(std::abs(f.Energy(q) - internal::RodBendTwistEnergy(kStiffness, f.rest, s.edgeA, s.edgeB, s.thetaA,
-                                                              s.thetaB, f.refA, f.refB, f.refTwistStart)) <=
-          1e-14 * std::max<real>(f.Energy(q), 1));
+/// A random stencil and the point to evaluate it at.
+struct RandomStencil {
+  StencilFunction f;
+  Vector11 q;
+  real turn;   ///< angle between the two edges [rad]
+  int branch;  ///< refTwistStart's branch, in turns away from atan2's
+};
 
+/// Edge lengths 0.3–2 in random directions, the second edge turned by 0–160°
+/// from the first (every 8th by less than 10⁻³ rad, every 32nd not at all),
+/// twists in [−π, π], stage frames tilted by up to 0.5 rad about random axes and
+/// spun at random, stiffnesses 0.2–5, Voronoi length 0.3–2, rest strains in
+/// [−1, 1], and the reference twist's stage-start value ±1 rad off a branch
+/// k ∈ {−2, …, 2} turns away.
+RandomStencil MakeRandomStencil(std::mt19937& rng, int index) {
+  std::uniform_real_distribution<real> unit(0, 1), symmetric(-1, 1);
+  std::normal_distribution<real> normal;
+  auto direction = [&] { return Real3(normal(rng), normal(rng), normal(rng)).normalized(); };
+  real const pi = std::numbers::pi_v<real>;
+  RandomStencil r;
+  Real3 const tA = direction();
+  r.turn = index % 32 == 0  ? 0
+           : index % 8 == 0 ? 1e-3 * unit(rng)
+                            : (160.0 / 180.0) * pi * unit(rng);
+  Real3 const tB = Eigen::AngleAxis<real>(r.turn, tA.cross(direction()).normalized()) * tA;
+  Real3 const edgeA = (0.3 + 1.7 * unit(rng)) * tA, edgeB = (0.3 + 1.7 * unit(rng)) * tB;
+  real const thetaA = pi * symmetric(rng), thetaB = pi * symmetric(rng);
+  StencilFunction& f = r.f;
+  f.refA = TiltedFrame(edgeA, direction(), 0.5 * unit(rng), pi * symmetric(rng));
+  f.refB = TiltedFrame(edgeB, direction(), 0.5 * unit(rng), pi * symmetric(rng));
+  f.stiffness = {50.0, 0.2 + 4.8 * unit(rng), 0.2 + 4.8 * unit(rng), 0.2 + 4.8 * unit(rng)};
+  f.rest.voronoiLength = 0.3 + 1.7 * unit(rng);
+  f.rest.strain = Real3(symmetric(rng), symmetric(rng), symmetric(rng));
+  r.branch = std::uniform_int_distribution<int>(-2, 2)(rng);
+  f.refTwistStart = internal::RodReferenceTwist(edgeA, edgeB, f.refA, f.refB, 0) +
+                    2 * pi * r.branch + symmetric(rng);
+  r.q = StencilDofs(Real3(symmetric(rng), symmetric(rng), symmetric(rng)), edgeA, edgeB, thetaA,
+                    thetaB);
+  return r;
+}
+
+/// Central differences of the stencil at q: the gradient from energy
+/// differences, the Hessian from differences of the (fast) analytic gradient.
+void CentralDifferences(StencilFunction const& f, Vector11 const& q, Vector11& fdGradient,
+                        Matrix11& fdHessian) {
   real const eps = 1e-6;
-  Vector11 fdGradient;
-  Matrix11 fdHessian;
   for (int j = 0; j < 11; ++j) {
     Vector11 plus = q, minus = q;
     plus[j] += eps;
@@ -116,6 +166,47 @@ TEST_CASE("rod bending-twisting energy: gradient and exact Hessian match central
     f.GradientHessian(minus, gMinus, unused, false);
     fdHessian.col(j) = (gPlus - gMinus) / (2 * eps);
   }
+}
+
+/// The fast kernel against the Jet<8> reference at q: the largest gradient
+/// difference relative to max(‖g_ref‖∞, 1) and the largest Hessian difference
+/// relative to ‖H_ref‖∞ (the largest entry; REQUIREd > 0.05 so the ratio is
+/// not vacuous: every stencil's GJ/l̄ is at least 0.1).
+struct Deviation {
+  real gradient = 0, hessian = 0;
+};
+Deviation DeviationFromJet(StencilFunction const& f, Vector11 const& q, bool project) {
+  Vector11 g, gRef;
+  Matrix11 h, hRef;
+  f.GradientHessian(q, g, h, project);
+  f.GradientHessianJet(q, gRef, hRef, project);
+  real const hScale = hRef.lpNorm<Eigen::Infinity>();
+  REQUIRE(hScale > 0.05);
+  return {(g - gRef).lpNorm<Eigen::Infinity>() / std::max<real>(gRef.lpNorm<Eigen::Infinity>(), 1),
+          (h - hRef).lpNorm<Eigen::Infinity>() / hScale};
+}
+
+}  // namespace
+
+TEST_CASE("rod bending-twisting energy: gradient and exact Hessian match central differences",
+          "[actors][rod][derivatives]") {
+  Stencil const s = GENERATE(from_range(std::begin(kStencils), std::end(kStencils)));
+  bool const naturalCurvature = GENERATE(false, true);
+  CAPTURE(s.name, naturalCurvature);
+  StencilFunction const f = FixedStencilFunction(s, naturalCurvature);
+  Vector11 const q = StencilDofs(s);
+
+  Vector11 g;
+  Matrix11 h;
+  f.GradientHessian(q, g, h, false);
+  REQUIRE(std::abs(f.Energy(q) - internal::RodBendTwistEnergy(kStiffness, f.rest, s.edgeA, s.edgeB,
+                                                              s.thetaA, s.thetaB, f.refA, f.refB,
+                                                              f.refTwistStart)) <=
+          1e-14 * std::max<real>(f.Energy(q), 1));
+
+  Vector11 fdGradient;
+  Matrix11 fdHessian;
+  CentralDifferences(f, q, fdGradient, fdHessian);
   real const gScale = g.lpNorm<Eigen::Infinity>(), hScale = h.lpNorm<Eigen::Infinity>();
   CAPTURE(gScale, hScale);
   // the check is not vacuous: the gradient vanishes only in the straight,
@@ -138,6 +229,63 @@ TEST_CASE("rod bending-twisting energy: gradient and exact Hessian match central
   CAPTURE(exact.eigenvalues().transpose());
   REQUIRE(projected.eigenvalues().minCoeff() >= -1e-12 * hScale);
   if (exact.eigenvalues().minCoeff() >= 0) REQUIRE((hp - h).lpNorm<Eigen::Infinity>() <= 1e-10 * hScale);
+}
+
+TEST_CASE("rod bending-twisting energy on random stencils: derivatives match central differences",
+          "[actors][rod][derivatives]") {
+  // random geometry, frames, twists, stiffness, rest strain and twist branch
+  // (MakeRandomStencil); the same tolerances as on the fixed stencils
+  std::mt19937 rng(11);
+  int numBent = 0;
+  for (int i = 0; i < 40; ++i) {
+    RandomStencil const r = MakeRandomStencil(rng, i);
+    CAPTURE(i, r.turn, r.branch);
+    Vector11 g;
+    Matrix11 h;
+    r.f.GradientHessian(r.q, g, h, false);
+    Vector11 fdGradient;
+    Matrix11 fdHessian;
+    CentralDifferences(r.f, r.q, fdGradient, fdHessian);
+    real const gScale = g.lpNorm<Eigen::Infinity>(), hScale = h.lpNorm<Eigen::Infinity>();
+    CAPTURE(gScale, hScale);
+    // random twists and rest strains leave every stencil off its rest state
+    REQUIRE(gScale > 1e-2);
+    REQUIRE(hScale > 0.05);
+    REQUIRE((g - fdGradient).lpNorm<Eigen::Infinity>() <= 1e-6 * std::max<real>(gScale, 1));
+    REQUIRE((h - fdHessian).lpNorm<Eigen::Infinity>() <= 1e-6 * hScale);
+    if (r.turn > 0.5) ++numBent;
+  }
+  REQUIRE(numBent >= 20);
+}
+
+TEST_CASE("rod bending-twisting stencil: the fast gradient and Hessian equal the Jet<8> reference",
+          "[actors][rod][derivatives]") {
+  // the same function differentiated two ways: they differ by round-off only,
+  // relative to the largest entry (DeviationFromJet)
+  static constexpr real kTolerance = 1e-12;
+  bool const project = GENERATE(false, true);
+  CAPTURE(project);
+  auto record = [](Deviation const& d) {
+    CAPTURE(d.gradient, d.hessian);
+    REQUIRE(d.gradient <= kTolerance);
+    REQUIRE(d.hessian <= kTolerance);
+  };
+  for (Stencil const& s : kStencils) {
+    for (bool const naturalCurvature : {false, true}) {
+      CAPTURE(s.name, naturalCurvature);
+      record(DeviationFromJet(FixedStencilFunction(s, naturalCurvature), StencilDofs(s), project));
+    }
+  }
+  std::mt19937 rng(7);
+  int numOffBranch = 0;
+  for (int i = 0; i < 400; ++i) {
+    RandomStencil const r = MakeRandomStencil(rng, i);
+    CAPTURE(i, r.turn, r.branch);
+    record(DeviationFromJet(r.f, r.q, project));
+    if (r.branch != 0) ++numOffBranch;
+  }
+  // the reference twist's branch was exercised: a wrong branch changes m by 2πk
+  REQUIRE(numOffBranch >= 200);
 }
 
 TEST_CASE("rod stretching: gradient and Hessian match central differences", "[actors][rod][derivatives]") {
