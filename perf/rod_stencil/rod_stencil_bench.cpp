@@ -30,6 +30,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <numbers>
 #include <random>
 #include <string>
@@ -91,23 +92,26 @@ std::vector<Stencil> MakeStencils(int count, real maxTurn) {
   return stencils;
 }
 
-/// Wall time of `pass(begin, end)` over all n stencils [s]: the stencils are
-/// timed in batches of kBatch, each batch's best of `repeats` runs, summed. On
-/// a machine shared with other work a batch (0.1–2 ms) mostly runs without
-/// being preempted, where a whole pass would not.
+/// Wall time of each of `passes` (called as pass(begin, end)) over all n
+/// stencils [s]: the stencils are timed in batches of kBatch, each batch's best
+/// of `repeats` runs, summed; the passes take turns on each batch, so that all
+/// of them see the same machine. On a machine shared with other work a batch
+/// (0.1–2 ms) mostly runs without being preempted, where a whole pass would not.
 constexpr int kBatch = 100;
 template <class Pass>
-double Best(int n, int repeats, Pass&& pass) {
-  double total = 0;
+std::vector<double> Best(int n, int repeats, std::vector<Pass> const& passes) {
+  std::vector<double> total(passes.size(), 0);
   for (int begin = 0; begin < n; begin += kBatch) {
     int const end = std::min(n, begin + kBatch);
-    double best = 1e300;
+    std::vector<double> best(passes.size(), 1e300);
     for (int r = 0; r < repeats; ++r) {
-      auto const start = Clock::now();
-      pass(begin, end);
-      best = std::min(best, std::chrono::duration<double>(Clock::now() - start).count());
+      for (size_t p = 0; p < passes.size(); ++p) {
+        auto const start = Clock::now();
+        passes[p](begin, end);
+        best[p] = std::min(best[p], std::chrono::duration<double>(Clock::now() - start).count());
+      }
     }
-    total += best;
+    for (size_t p = 0; p < passes.size(); ++p) total[p] += best[p];
   }
   return total;
 }
@@ -197,7 +201,8 @@ int main(int argc, char** argv) {
       "fast vs Jet<8> reference, largest relative difference: gradient %.2e, Hessian %.2e\n",
       static_cast<double>(gradientDeviation), static_cast<double>(hessianDeviation));
 
-  double const energy = Best(n, repeats, [&](int begin, int end) {
+  using Pass = std::function<void(int, int)>;
+  Pass const energyPass = [&](int begin, int end) {
     real sum = 0;
     for (int i = begin; i < end; ++i) {
       Stencil const& s = stencils[i];
@@ -205,9 +210,9 @@ int main(int argc, char** argv) {
                                                     s.thetaB, s.refA, s.refB, s.refTwistStart);
     }
     gSink = gSink + sum;
-  });
-  auto time = [&](Kernel kernel, bool project) {
-    return Best(n, repeats, [&](int begin, int end) {
+  };
+  auto kernelPass = [&](Kernel kernel, bool project) -> Pass {
+    return [&stencils, kernel, project](int begin, int end) {
       Vector11 gradient;
       Matrix11 hessian;
       real sum = 0;
@@ -216,14 +221,18 @@ int main(int argc, char** argv) {
         sum += gradient[4] + hessian(7, 2);
       }
       gSink = gSink + sum;
-    });
+    };
   };
+  std::vector<double> const seconds =
+      Best(n, repeats,
+           std::vector<Pass>{energyPass, kernelPass(reference, false), kernelPass(fast, false),
+                             kernelPass(reference, true), kernelPass(fast, true)});
+  double const energy = seconds[0], referenceExact = seconds[1], fastExact = seconds[2];
+  double const referenceProjected = seconds[3], fastProjected = seconds[4];
 
   std::printf("\n%-32s %12s %14s %18s\n", "variant", "us/stencil", "vs reference",
               "projection share");
   std::printf("%-32s %12.3f\n", "energy", 1e6 * energy / n);
-  double const referenceExact = time(reference, false), fastExact = time(fast, false);
-  double const referenceProjected = time(reference, true), fastProjected = time(fast, true);
   auto report = [&](char const* variant, double seconds, double referenceSeconds,
                     double exactSeconds) {
     std::printf("%-32s %12.3f %13.2fx", variant, 1e6 * seconds / n, referenceSeconds / seconds);
