@@ -239,6 +239,12 @@ def log_axes(ax, plotted, title, xlabel, ylabel, legend_loc):
     ax.legend(fontsize=7.5, loc=legend_loc)
 
 
+class PlainLogFormatter(matplotlib.ticker.LogFormatter):
+    """Labels the ticks LogFormatter labels, as plain numbers ("30", "0.04")."""
+    def __call__(self, x, pos=None):
+        return f"{x:g}" if super().__call__(x, pos) else ""
+
+
 # ----------------------------------------------------------------- charts ----
 def pareto_front(points):
     """The non-dominated points of [(cost, error, ...)], sorted by cost: no
@@ -270,7 +276,7 @@ def chart_work_precision(wp, out, style, written):
         return
     for fam, fr in group(wp, lambda r: r["family"]).items():
         panels = work_precision_panels(fr)
-        fig, axes = plt.subplots(len(panels), 1, figsize=(9, 6.5 * len(panels)), squeeze=False)
+        fig, axes = plt.subplots(len(panels), 1, figsize=(11, 6 * len(panels)), squeeze=False)
         for ax, ((_, size, material), pr) in zip(axes[:, 0], panels.items()):
             series = []  # (method, integrator, label, [(cost, error, dt)])
             for (method, integ), g in group(pr, lambda r: (r["method"], r["integrator"])).items():
@@ -317,7 +323,13 @@ def chart_work_precision(wp, out, style, written):
                      "wall time per simulated second [s/s] = wall time per step / dt "
                      "(steps only, no set-up)",
                      "error: RMS node position vs reference / scene length [-]", "best")
-            ax.legend(fontsize=7.5, loc="best", handlelength=3.5)  # long enough to show the dashes
+            # outside the axes, so that it hides no point; handles long enough
+            # to show the integrators' dashes
+            ax.legend(fontsize=7.5, loc="upper left", bbox_to_anchor=(1.01, 1), handlelength=3.5)
+            for axis in (ax.xaxis, ax.yaxis):  # 30 rather than 3×10¹ on a short log range
+                axis.set_major_formatter(PlainLogFormatter(labelOnlyBase=False))
+                axis.set_minor_formatter(PlainLogFormatter(labelOnlyBase=False,
+                                                           minor_thresholds=(2, 0.5)))
         fig.tight_layout()
         save(fig, out, f"work_precision_{fam}.png", written)
 
