@@ -319,7 +319,7 @@ def chart_work_precision(wp, out, style, written):
             log_axes(ax, bool(front),
                      f"Work–precision: {fam} {size}"
                      + (f" ({fmt_count(dofs)} DoFs, {material})" if dofs else f" ({material})")
-                     + (f", error at t = {end:g} s" if end else "") + "; point labels = dt [s]",
+                     + (f", error at t = {end:.3g} s" if end else "") + "; point labels = dt [s]",
                      "wall time per simulated second [s/s] = wall time per step / dt "
                      "(steps only, no set-up)",
                      "error: RMS node position vs reference / scene length [-]", "best")
