@@ -2,7 +2,7 @@
 // families, one child process per run, one CSV row and JSON object per run
 // (perf/harness/README.md).
 //
-//   superdex_perf --suite tiny|quick|full --out DIR [--only FAMILY]
+//   superdex_perf --suite tiny|quick|full|work_precision --out DIR [--only FAMILY]
 //                 [--timeout S] [--dry-run]
 //   superdex_perf run [--family F --size S --method M ...] [--format csv|json]
 //
@@ -190,7 +190,8 @@ class SuiteBuilder {
   Strings notes_;
 };
 
-/// The runs of suite `name` (tiny | quick | full); false for an unknown name.
+/// The runs of suite `name` (tiny | quick | full | work_precision); false
+/// for an unknown name.
 /// Budgets and the reasons for the sizes are in README.md.
 bool DefineSuite(SuiteBuilder& b, std::string const& name) {
   Labels const wpMethods{"cholmod", "pcg-gamg"};
@@ -210,6 +211,17 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
   Strings const chainLongDts{"1/30", "1/60", "1/100", "1/240"};
   double const chainLongEnd = 3;
   Strings const chainStabilityDts{"1/240", "1/100", "1/60", "1/15"};
+  // Work-precision where the solvers differ (suite work_precision, also in
+  // full): the beam at 24,192 DoFs and the rods at 6,406, cholmod, pcg-icc
+  // and pcg-gamg, both integrators, dt 1/15 ... 1/60 to 0.2 s (3 to 12
+  // steps; the references at 1/480, 96 steps, are the largest runs). Sized
+  // to take minutes on 2 cores (README.md), not the full suite's half hour.
+  auto const solverWorkPrecision = [&] {
+    Labels const methods{"cholmod", "pcg-icc", "pcg-gamg"};
+    Strings const dts{"1/15", "1/30", "1/60"};
+    b.WorkPrecision("cantilever", "55x11x11", dts, 0.2, methods, bothIntegrators);
+    b.WorkPrecision("rods", "16x100", dts, 0.2, methods, bothIntegrators);
+  };
 
   if (name == "tiny") {
     // the ctest smoke test: every family, study and code path in seconds
@@ -324,6 +336,11 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     // + pcg-hypre: the AMG that works on rods
     b.Stability("rods", "16x50", stabilityRatios, stabilityDts,
                 {"cholmod", "pcg-jacobi", "pcg-gamg", "pcg-hypre"}, 3, 200);
+    solverWorkPrecision();
+    return true;
+  }
+  if (name == "work_precision") {
+    solverWorkPrecision();
     return true;
   }
   return false;
@@ -379,7 +396,7 @@ int RunSuite(SuiteOptions const& options) {
   SuiteBuilder builder(options.suite, options.out,
                       options.only.empty() ? Strings{} : SplitList(options.only));
   if (!DefineSuite(builder, options.suite)) {
-    std::fprintf(stderr, "superdex_perf: unknown suite '%s' (tiny, quick, full)\n",
+    std::fprintf(stderr, "superdex_perf: unknown suite '%s' (tiny, quick, full, work_precision)\n",
                  options.suite.c_str());
     return 2;
   }
@@ -442,7 +459,7 @@ void PrintHelp() {
   std::printf(
       "superdex_perf: solver and modelling comparisons on scene families (perf/harness/README.md)\n"
       "\n"
-      "  superdex_perf --suite tiny|quick|full --out DIR [--only FAMILY] [--timeout S] "
+      "  superdex_perf --suite tiny|quick|full|work_precision --out DIR [--only FAMILY] [--timeout S] "
       "[--dry-run]\n"
       "      runs a suite, one child process per run; writes DIR/results.csv, DIR/results.json,\n"
       "      DIR/ref/ (reference positions) and DIR/logs/ (output of runs that printed any).\n"

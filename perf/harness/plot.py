@@ -9,10 +9,16 @@ Input:  OUT_DIR/results.csv, written by the harness, one row per run (header
         present; extra columns are ignored.  Needs only numpy and matplotlib.
 
 Output (into OUT_DIR; the list of files written is printed):
-  work_precision_<family>.png  study == work_precision: error (log) against
-        wall time per step (log), one line per (method, integrator), points
-        sorted by time and labelled with dt; failed runs are left out of the
-        lines and counted in the legend as "(k failed)".
+  work_precision_<family>.png  study == work_precision, one panel per (size,
+        material): error at the end time (log) against wall time per simulated
+        second (log) = wall_per_step_s / dt, i.e. the summed step wall time
+        over the simulated time (scene set-up excluded), the cost of reaching
+        the end time; one line per (method, integrator), points labelled with
+        dt; the Pareto front over every method, integrator and dt of the
+        panel as a black step line, its points opaque and the dominated ones
+        faint; failed runs are left out and counted in the legend as
+        "(k failed)".  summary.md's tables keep time/step and add the
+        per-simulated-second cost and the front.
   scaling.png  study == scaling, ok rows: wall time per step against dofs
         (log-log), one panel per family, one line per method, with the least
         squares slope of log t over log n in the legend.
@@ -233,30 +239,98 @@ def log_axes(ax, plotted, title, xlabel, ylabel, legend_loc):
     ax.legend(fontsize=7.5, loc=legend_loc)
 
 
+class PlainLogFormatter(matplotlib.ticker.LogFormatter):
+    """Labels the ticks LogFormatter labels, as plain numbers ("30", "0.04")."""
+    def __call__(self, x, pos=None):
+        return f"{x:g}" if super().__call__(x, pos) else ""
+
+
 # ----------------------------------------------------------------- charts ----
+def pareto_front(points):
+    """The non-dominated points of [(cost, error, ...)], sorted by cost: no
+    other point is at most as costly and at most as wrong (and better in one).
+    Sorted by cost (ties: error), a point is on the front when its error is
+    below every error of a cheaper point."""
+    front, best = [], math.inf
+    for p in sorted(points, key=lambda p: (p[0], p[1])):
+        if p[1] < best:
+            front.append(p)
+            best = p[1]
+    return front
+
+
+def work_precision_panels(wp):
+    """{(family, size, material): rows}: one panel per scene, since errors of
+    different sizes or materials are measured against different references."""
+    return group(wp, lambda r: (r["family"], r["size"], r["material"]))
+
+
 def chart_work_precision(wp, out, style, written):
+    """Per family, one panel per (size, material): error at the end time
+    against wall time per simulated second (sim_cost: wall time per step / dt,
+    which is the summed step time / simulated time, set-up excluded), one
+    series per (method, integrator) with the points labelled by dt, and the
+    Pareto front over every method, integrator and dt of the panel."""
     if not wp:
         print("skip work_precision_*.png: no work_precision rows")
         return
     for fam, fr in group(wp, lambda r: r["family"]).items():
-        fig, ax = plt.subplots(figsize=(8.5, 6))
-        plotted = False
-        for (method, integ), g in group(fr, lambda r: (r["method"], r["integrator"])).items():
-            pts = sorted(((wall(r), num(r, "error"), num(r, "dt")) for r in g
-                          if is_ok(r) and pos(wall(r)) and pos(num(r, "error"))),
-                         key=lambda p: p[0])
-            nfail = sum(not is_ok(r) for r in g)
-            label = f"{method} {integ}".strip() + (f" ({nfail} failed)" if nfail else "")
-            color, marker = style(method)
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], LINESTYLE.get(integ, ":"), marker=marker, color=color,
-                    label=label, ms=6, lw=1.6)
-            plotted = plotted or bool(pts)
-            if len(fr) <= 60:  # dt labels only while they stay readable
-                for x, y, dt in pts:
-                    ax.annotate(dt_label(dt), (x, y), textcoords="offset points",
-                                xytext=(4, 3), fontsize=6.5, color=color)
-        log_axes(ax, plotted, f"Work–precision: {fam} ({sizes_of(fr)}); point labels = dt [s]",
-                 "wall time per step [s]", "error: RMS node position / scene length [-]", "best")
+        panels = work_precision_panels(fr)
+        fig, axes = plt.subplots(len(panels), 1, figsize=(11, 6 * len(panels)), squeeze=False)
+        for ax, ((_, size, material), pr) in zip(axes[:, 0], panels.items()):
+            series = []  # (method, integrator, label, [(cost, error, dt)])
+            for (method, integ), g in group(pr, lambda r: (r["method"], r["integrator"])).items():
+                pts = sorted(((sim_cost(r), num(r, "error"), num(r, "dt")) for r in g
+                              if is_ok(r) and pos(sim_cost(r)) and pos(num(r, "error"))),
+                             key=lambda p: -p[2])  # along the series: dt falling
+                nfail = sum(not is_ok(r) for r in g)
+                series.append((method, integ,
+                               f"{method} {integ}".strip() + (f" ({nfail} failed)" if nfail else ""),
+                               pts))
+            front = pareto_front([p for s in series for p in s[3]])
+            on_front = set(front)
+            for method, integ, label, pts in series:
+                color, marker = style(method)
+                ls = LINESTYLE.get(integ, ":")
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], ls, color=color, lw=1.2,
+                        alpha=0.35)
+                for faint in (True, False):  # dominated points faint, front points opaque
+                    sel = [p for p in pts if (p not in on_front) == faint]
+                    ax.plot([p[0] for p in sel], [p[1] for p in sel], ls="none", marker=marker,
+                            color=color, ms=6, alpha=0.3 if faint else 1.0,
+                            mec="black" if not faint else color, mew=0.8)
+                ax.plot([], [], ls, marker=marker, color=color, label=label, ms=6, lw=1.2)
+                if len(pr) <= 60:  # dt labels only while they stay readable
+                    for p in pts:
+                        ax.annotate(dt_label(p[2]), p[:2], textcoords="offset points",
+                                    xytext=(4, 3), fontsize=6.5, color=color,
+                                    alpha=1.0 if p in on_front else 0.45)
+            if front:
+                # the best error reachable within a budget: a step line through
+                # the front, flat to the next cheaper-and-better point
+                xs = [p[0] for p in front]
+                ys = [p[1] for p in front]
+                ax.plot(xs + [xs[-1] * 1.5], ys + [ys[-1]], color="black", lw=1.4,
+                        drawstyle="steps-post", zorder=1,
+                        label=f"Pareto front ({len(front)} of "
+                              f"{sum(len(s[3]) for s in series)} runs; dominated runs faint)")
+            dofs = num(pr[0], "dofs")
+            end = num(pr[0], "end_time")
+            log_axes(ax, bool(front),
+                     f"Work–precision: {fam} {size}"
+                     + (f" ({fmt_count(dofs)} DoFs, {material})" if dofs else f" ({material})")
+                     + (f", error at t = {end:.3g} s" if end else "") + "; point labels = dt [s]",
+                     "wall time per simulated second [s/s] = wall time per step / dt "
+                     "(steps only, no set-up)",
+                     "error: RMS node position vs reference / scene length [-]", "best")
+            # outside the axes, so that it hides no point; handles long enough
+            # to show the integrators' dashes
+            ax.legend(fontsize=7.5, loc="upper left", bbox_to_anchor=(1.01, 1), handlelength=3.5)
+            for axis in (ax.xaxis, ax.yaxis):  # 30 rather than 3×10¹ on a short log range
+                axis.set_major_formatter(PlainLogFormatter(labelOnlyBase=False))
+                axis.set_minor_formatter(PlainLogFormatter(labelOnlyBase=False,
+                                                           minor_thresholds=(2, 0.5)))
+        fig.tight_layout()
         save(fig, out, f"work_precision_{fam}.png", written)
 
 
@@ -567,12 +641,21 @@ def summary(rows, out, written):
                  "assembly share", "status"], [scaling_row(r) for r in fr])
     if studies.get("work_precision"):
         L += ["## Work–precision", ""]
-        for fam, fr in group(studies["work_precision"], lambda r: r["family"]).items():
+        L += ["Cost: time/step is the summed step wall time / steps; wall/simulated s is "
+              "time/step / dt, the cost of simulating one second (set-up excluded), on which "
+              "the Pareto front (●: no other run of the table is both cheaper and more "
+              "accurate) is taken.", ""]
+        for (fam, size, material), fr in work_precision_panels(studies["work_precision"]).items():
+            front = {id(p[2]) for p in pareto_front(
+                [(sim_cost(r), num(r, "error"), r) for r in fr
+                 if is_ok(r) and pos(sim_cost(r)) and pos(num(r, "error"))])}
             fr = sorted(fr, key=lambda r: (r["method"], r["integrator"], -(num(r, "dt") or 0)))
-            L += [f"### {fam} ({sizes_of(fr)})", ""] + table(
-                ["method", "integrator", "dt", "rtol", "Newton tol", "error", "time/step", "status"],
+            L += [f"### {fam} {size} ({fmt_count(num(fr[0], 'dofs'))} DoFs, {material})", ""] + table(
+                ["method", "integrator", "dt", "rtol", "Newton tol", "error", "time/step",
+                 "wall/simulated s [s/s]", "Pareto", "status"],
                 [[r["method"], r["integrator"], dt_label(num(r, "dt")), r["rtol"],
-                  r["newton_tol"], fmt(num(r, "error")), fmt_time(wall(r)), status_text(r)]
+                  r["newton_tol"], fmt(num(r, "error")), fmt_time(wall(r)),
+                  fmt(sim_cost(r)), "●" if id(r) in front else "", status_text(r)]
                  for r in fr])
     if studies.get("stability"):
         L += ["## Stability", "", "Cells: `ok` with Newton its/step, the failure reason, or – (not run).", ""]
