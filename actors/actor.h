@@ -112,13 +112,14 @@ class Actor {
   virtual void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) = 0;
   /// Inertia + gravity (+ internal elastic) energy at the current iterate.
   virtual real Energy() const = 0;
-  /// Adds the energy gradient into `gradient` (global, natural order) and the
-  /// Hessian blocks through the assembler, contributors starting at
-  /// `firstContributor`. With `projectHessian` every block is PSD (element
+  /// Adds the energy gradient and the Hessian blocks through the assembler
+  /// (AddGradient, AddBlock: at most one of each per contributor),
+  /// contributors starting at `firstContributor`; loops over many elements
+  /// run on assembler.ParallelFor. With `projectHessian` every block is PSD (element
   /// Hessians projected); without it elastic element blocks are exact and may
   /// be indefinite (the stage solver falls back to projection when the
   /// assembled matrix is not positive definite).
-  virtual void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+  virtual void AddGradientAndHessian(internal::HessianAssembler& assembler,
                                      int firstContributor, bool projectHessian) const = 0;
   /// Saves the current iterate; RestoreIterate returns to it (line search).
   virtual void SaveIterate() = 0;

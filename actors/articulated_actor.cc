@@ -188,6 +188,7 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   a.jointTarget_ = VectorX::Zero(numDofs);
   a.kinematics_.motion.resize(6, numDofs);
   a.hessian_ = MatrixX::Zero(numDofs, numDofs);
+  a.gradient_ = VectorX::Zero(numDofs);
   // sized by a factorization (assigning LDLT(n) copies its uninitialized
   // status flag: undefined behaviour, UBSan)
   a.modifiedFactor_.compute(MatrixX::Identity(numDofs, numDofs));
@@ -518,7 +519,7 @@ real ArticulatedActor::Energy() const {
   return energy;
 }
 
-void ArticulatedActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
                                              int firstContributor, bool projectHessian) const {
   ComputeKinematics(state_.joints, kinematics_);
   Kinematics const& k = kinematics_;
@@ -546,7 +547,8 @@ void ArticulatedActor::AddGradientAndHessian(Span<real> gradient, internal::Hess
     composite_[p] += composite_[i];
   }
   // gradient: g_k = ω_k·M_sub + v_k·F_sub (the backward pass of RNEA)
-  real* out = gradient.data() + dofOffset_;
+  gradient_.setZero();
+  real* out = gradient_.data();
   for (int i = 0; i < numLinks; ++i)
     for (int c = links_[i].dofStart; c < links_[i].dofStart + links_[i].numDofs; ++c)
       out[c] += k.motion.col(c).head<3>().dot(wrenchMoment_[i]) + k.motion.col(c).tail<3>().dot(wrenchForce_[i]);
@@ -646,6 +648,7 @@ void ArticulatedActor::AddGradientAndHessian(Span<real> gradient, internal::Hess
     }
   }
   if (projectHessian) ModifyHessianToPositiveDefinite();
+  assembler.AddGradient(firstContributor, gradient_);
   assembler.AddBlock(firstContributor, hessian_);
 }
 

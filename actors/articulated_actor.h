@@ -179,7 +179,7 @@ class ArticulatedActor final : public Actor {
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
   real Energy() const override;
-  void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+  void AddGradientAndHessian(internal::HessianAssembler& assembler,
                              int firstContributor, bool projectHessian) const override;
   void SaveIterate() override;
   void RestoreIterate() override;
@@ -208,6 +208,7 @@ class ArticulatedActor final : public Actor {
   VectorX jointTarget_;  ///< Δ̂q, the reduced prediction (armature)
   mutable Kinematics kinematics_;
   mutable MatrixX hessian_;
+  mutable VectorX gradient_;  ///< of AddGradientAndHessian, over the actor's DoFs
   // the projected Hessian's modified factorization (sized at creation)
   mutable Eigen::LDLT<MatrixX> modifiedFactor_;
   mutable VectorX modifiedColumn_;

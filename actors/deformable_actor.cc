@@ -182,13 +182,6 @@ Eigen::Matrix<real, 3 * N, 1> DeformableActor::Gather(std::array<int, N> const& 
   return x;
 }
 
-template <int N, class Block>
-void DeformableActor::Scatter(std::array<int, N> const& nodes, Block const& local,
-                              Span<real> gradient) const {
-  for (int k = 0; k < N; ++k)
-    for (int c = 0; c < 3; ++c) gradient[dofOffset_ + 3 * nodes[k] + c] += local[3 * k + c];
-}
-
 real DeformableActor::GetElasticEnergy() const {
   real energy = 0;
   for (std::size_t e = 0; e < tetrahedra_.size(); ++e)
@@ -274,36 +267,52 @@ real DeformableActor::Energy() const {
   return energy + GetElasticEnergy();
 }
 
-void DeformableActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+void DeformableActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
                                             int firstContributor, bool projectHessian) const {
-  int contributor = firstContributor;
+  // contributors: nodes, tetrahedra, triangles, hinges (AppendContributorDofs)
+  int const numNodes = GetNumNodes();
+  int const firstTet = firstContributor + numNodes;
+  int const numTets = static_cast<int>(tetrahedra_.size());
+  int const firstTriangle = firstTet + numTets;
+  int const numTriangles = static_cast<int>(triangles_.size());
+  int const firstHinge = firstTriangle + numTriangles;
   // inertia and gravity, node by node
-  for (int i = 0; i < GetNumNodes(); ++i) {
-    Real3 const g = mass_[i] * (weight_ * (state_.displacement[i] - target_[i]) - gravityLocal_);
-    for (int c = 0; c < 3; ++c) gradient[dofOffset_ + 3 * i + c] += g[c];
-    assembler.AddBlock(contributor++, Real33((weight_ * mass_[i]) * Real33::Identity()));
-  }
-  internal::Vector12 g12;
-  internal::Matrix12 h12;
-  for (std::size_t e = 0; e < tetrahedra_.size(); ++e) {
-    internal::TetEnergyGradientHessian(material_, lame_, tetRest_[e], Gather<4>(tetrahedra_[e]), g12, h12,
-                                       projectHessian);
-    Scatter<4>(tetrahedra_[e], g12, gradient);
-    assembler.AddBlock(contributor++, h12);
-  }
-  internal::Vector9 g9;
-  internal::Matrix9 h9;
-  for (std::size_t e = 0; e < triangles_.size(); ++e) {
-    internal::MembraneEnergyGradientHessian(lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
-                                            Gather<3>(triangles_[e]), g9, h9, projectHessian);
-    Scatter<3>(triangles_[e], g9, gradient);
-    assembler.AddBlock(contributor++, h9);
-  }
-  for (std::size_t e = 0; e < hinges_.size(); ++e) {
-    internal::BendingEnergyGradientHessian(bendingStiffness_, hingeRest_[e], Gather<4>(hinges_[e]), g12, h12);
-    Scatter<4>(hinges_[e], g12, gradient);
-    assembler.AddBlock(contributor++, h12);
-  }
+  assembler.ParallelFor(numNodes, internal::kNodeGrain, [&](int begin, int end, int) {
+    for (int i = begin; i < end; ++i) {
+      Real3 const g = mass_[i] * (weight_ * (state_.displacement[i] - target_[i]) - gravityLocal_);
+      assembler.AddGradient(firstContributor + i, g);
+      assembler.AddBlock(firstContributor + i, Real33((weight_ * mass_[i]) * Real33::Identity()));
+    }
+  });
+  assembler.ParallelFor(numTets, internal::kElementGrain, [&](int begin, int end, int) {
+    internal::Vector12 g12;
+    internal::Matrix12 h12;
+    for (int e = begin; e < end; ++e) {
+      internal::TetEnergyGradientHessian(material_, lame_, tetRest_[e], Gather<4>(tetrahedra_[e]), g12, h12,
+                                         projectHessian);
+      assembler.AddGradient(firstTet + e, g12);
+      assembler.AddBlock(firstTet + e, h12);
+    }
+  });
+  assembler.ParallelFor(numTriangles, internal::kElementGrain, [&](int begin, int end, int) {
+    internal::Vector9 g9;
+    internal::Matrix9 h9;
+    for (int e = begin; e < end; ++e) {
+      internal::MembraneEnergyGradientHessian(lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
+                                              Gather<3>(triangles_[e]), g9, h9, projectHessian);
+      assembler.AddGradient(firstTriangle + e, g9);
+      assembler.AddBlock(firstTriangle + e, h9);
+    }
+  });
+  assembler.ParallelFor(static_cast<int>(hinges_.size()), internal::kElementGrain, [&](int begin, int end, int) {
+    internal::Vector12 g12;
+    internal::Matrix12 h12;
+    for (int e = begin; e < end; ++e) {
+      internal::BendingEnergyGradientHessian(bendingStiffness_, hingeRest_[e], Gather<4>(hinges_[e]), g12, h12);
+      assembler.AddGradient(firstHinge + e, g12);
+      assembler.AddBlock(firstHinge + e, h12);
+    }
+  });
 }
 
 void DeformableActor::SaveIterate() { saved_ = state_.displacement; }

@@ -98,7 +98,7 @@ class DeformableActor final : public NodalActor {
   /// iterations per step over steps 2–12.
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
   real Energy() const override;
-  void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+  void AddGradientAndHessian(internal::HessianAssembler& assembler,
                              int firstContributor, bool projectHessian) const override;
   void SaveIterate() override;
   void RestoreIterate() override;
@@ -110,8 +110,6 @@ class DeformableActor final : public NodalActor {
 
   template <int N>
   Eigen::Matrix<real, 3 * N, 1> Gather(std::array<int, N> const& nodes) const;
-  template <int N, class Block>
-  void Scatter(std::array<int, N> const& nodes, Block const& local, Span<real> gradient) const;
 
   // definition (immutable after creation)
   DynamicArray<Real3> reference_;

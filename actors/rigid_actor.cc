@@ -115,7 +115,7 @@ real RigidActor::Energy() const {
   return inertiaStage_.Energy(state_.position, state_.rotation) - mass_ * gravity_.dot(state_.position);
 }
 
-void RigidActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+void RigidActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
                                        int firstContributor, bool projectHessian) const {
   // the exact rotational inertia Hessian adds the curvature of φ(δθ) against
   // w I_b (φ − φ̂), indefinite far from φ̂; projected, the block is the
@@ -123,10 +123,9 @@ void RigidActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAss
   Real3 force, torque;
   inertiaStage_.Gradient(state_.position, state_.rotation, force, torque);
   force -= mass_ * gravity_;
-  for (int i = 0; i < 3; ++i) {
-    gradient[dofOffset_ + i] += force[i];
-    gradient[dofOffset_ + 3 + i] += torque[i];
-  }
+  Eigen::Matrix<real, 6, 1> gradient;
+  gradient << force, torque;
+  assembler.AddGradient(firstContributor, gradient);
   Eigen::Matrix<real, 6, 6> hessian = Eigen::Matrix<real, 6, 6>::Zero();
   hessian.topLeftCorner<3, 3>().diagonal().setConstant(inertiaStage_.TranslationStiffness());
   hessian.bottomRightCorner<3, 3>() = projectHessian ? inertiaStage_.RotationHessianGaussNewton(state_.rotation)

@@ -347,40 +347,45 @@ real RodActor::Energy() const {
   return energy + GetElasticEnergy();
 }
 
-void RodActor::AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+void RodActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
                                      int firstContributor, bool projectHessian) const {
-  int contributor = firstContributor;
+  // contributors: nodes, elements, stencils (AppendContributorDofs)
+  int const numNodes = GetNumNodes(), numElements = GetNumElements();
+  int const firstElement = firstContributor + numNodes;
+  int const firstStencil = firstElement + numElements;
   // inertia, twist inertia and gravity, node by node
-  for (int i = 0; i < GetNumNodes(); ++i) {
-    Real3 const g = mass_[i] * (weight_ * (state_.displacement[i] - target_[i]) - gravity_);
-    real* out = gradient.data() + dofOffset_ + 4 * i;
-    for (int c = 0; c < 3; ++c) out[c] += g[c];
-    out[3] += twistInertia_[i] * weight_ * (state_.twist[i] - twistTarget_[i]);
-    Eigen::Matrix<real, 4, 1> const diagonal(mass_[i], mass_[i], mass_[i], twistInertia_[i]);
-    assembler.AddBlock(contributor++, Eigen::Matrix<real, 4, 4>((weight_ * diagonal).asDiagonal()));
-  }
-  internal::Vector6 g6;
-  internal::Matrix6 h6;
-  for (int e = 0; e < GetNumElements(); ++e) {
-    internal::RodStretchGradientHessian(stiffness_.stretch, restLength_[e], Edge(e), g6, h6, projectHessian);
-    real* out = gradient.data() + dofOffset_ + 4 * e;
-    for (int c = 0; c < 3; ++c) {
-      out[c] += g6[c];
-      out[4 + c] += g6[3 + c];
+  assembler.ParallelFor(numNodes, internal::kNodeGrain, [&](int begin, int end, int) {
+    for (int i = begin; i < end; ++i) {
+      Real3 const g = mass_[i] * (weight_ * (state_.displacement[i] - target_[i]) - gravity_);
+      Eigen::Matrix<real, 4, 1> const gradient(g[0], g[1], g[2],
+                                               twistInertia_[i] * weight_ * (state_.twist[i] - twistTarget_[i]));
+      Eigen::Matrix<real, 4, 1> const diagonal(mass_[i], mass_[i], mass_[i], twistInertia_[i]);
+      assembler.AddGradient(firstContributor + i, gradient);
+      assembler.AddBlock(firstContributor + i, Eigen::Matrix<real, 4, 4>((weight_ * diagonal).asDiagonal()));
     }
-    assembler.AddBlock(contributor++, h6);
-  }
-  internal::Vector11 g11;
-  internal::Matrix11 h11;
-  for (int i = 1; i + 1 < GetNumNodes(); ++i) {
-    internal::RodBendTwistGradientHessian(stiffness_, stencilRest_[i - 1], Edge(i - 1), Edge(i),
-                                          state_.twist[i - 1], state_.twist[i], state_.frames[i - 1],
-                                          state_.frames[i], state_.referenceTwist[i - 1], g11, h11,
-                                          projectHessian);
-    real* out = gradient.data() + dofOffset_ + 4 * (i - 1);
-    for (int k = 0; k < 11; ++k) out[k] += g11[k];
-    assembler.AddBlock(contributor++, h11);
-  }
+  });
+  assembler.ParallelFor(numElements, internal::kElementGrain, [&](int begin, int end, int) {
+    internal::Vector6 g6;
+    internal::Matrix6 h6;
+    for (int e = begin; e < end; ++e) {
+      internal::RodStretchGradientHessian(stiffness_.stretch, restLength_[e], Edge(e), g6, h6, projectHessian);
+      assembler.AddGradient(firstElement + e, g6);
+      assembler.AddBlock(firstElement + e, h6);
+    }
+  });
+  assembler.ParallelFor(numNodes - 2, internal::kElementGrain, [&](int begin, int end, int) {
+    internal::Vector11 g11;
+    internal::Matrix11 h11;
+    for (int s = begin; s < end; ++s) {
+      int const i = s + 1;  // the stencil's interior node
+      internal::RodBendTwistGradientHessian(stiffness_, stencilRest_[i - 1], Edge(i - 1), Edge(i),
+                                            state_.twist[i - 1], state_.twist[i], state_.frames[i - 1],
+                                            state_.frames[i], state_.referenceTwist[i - 1], g11, h11,
+                                            projectHessian);
+      assembler.AddGradient(firstStencil + s, g11);
+      assembler.AddBlock(firstStencil + s, h11);
+    }
+  });
 }
 
 void RodActor::SaveIterate() {

@@ -116,7 +116,7 @@ class RodActor final : public NodalActor {
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
   real Energy() const override;
-  void AddGradientAndHessian(Span<real> gradient, internal::HessianAssembler& assembler,
+  void AddGradientAndHessian(internal::HessianAssembler& assembler,
                              int firstContributor, bool projectHessian) const override;
   void SaveIterate() override;
   void RestoreIterate() override;

@@ -75,13 +75,14 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
   for (int block : blockOrder) matrix.blockSizes.push_back(blockSizes[block]);
   matrix.patternVersion = NextPatternVersion();
 
-  // slot table: local upper triangle (a <= b, row-major) → value index
-  DynamicArray<int> contributorSize, slotStart, slots;
-  contributorSize.reserve(contributorDofs.size());
+  // DoF lists and slot table: local upper triangle (a <= b, row-major) → value index
+  DynamicArray<int> dofStart, dofList, slotStart, slots;
+  dofStart.reserve(contributorDofs.size() + 1);
   slotStart.reserve(contributorDofs.size());
   for (auto const& dofs : contributorDofs) {
     int const n = static_cast<int>(dofs.size());
-    contributorSize.push_back(n);
+    dofStart.push_back(static_cast<int>(dofList.size()));
+    dofList.insert(dofList.end(), dofs.begin(), dofs.end());
     slotStart.push_back(static_cast<int>(slots.size()));
     for (int a = 0; a < n; ++a)
       for (int b = a; b < n; ++b) {
@@ -92,16 +93,93 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
         slots.push_back(static_cast<int>(std::lower_bound(first, last, row) - matrix.rowIndex.begin()));
       }
   }
+  dofStart.push_back(static_cast<int>(dofList.size()));
 
   // commit
   matrix_ = std::move(matrix);
   permutation_ = std::move(permutation);
-  contributorSize_ = std::move(contributorSize);
+  dofStart_ = std::move(dofStart);
+  dofs_ = std::move(dofList);
   slotStart_ = std::move(slotStart);
   slots_ = std::move(slots);
   analyzed_ = true;
   ++numBuilds_;
+  PrepareStaging();
   return true;
+}
+
+void HessianAssembler::SetExecutor(ParallelExecutor const* executor) {
+  executor_ = executor;
+  PrepareStaging();
+}
+
+namespace {
+/// For every target t in [0, numTargets): the positions p of `targets` with
+/// targets[p] == t, ascending (a counting sort).
+void InvertMap(DynamicArray<int> const& targets, int numTargets, DynamicArray<int>& start,
+               DynamicArray<int>& sources) {
+  start.assign(numTargets + 1, 0);
+  for (int t : targets) ++start[t + 1];
+  for (int t = 0; t < numTargets; ++t) start[t + 1] += start[t];
+  sources.resize(targets.size());
+  DynamicArray<int> next(start.begin(), start.end() - 1);
+  for (std::size_t p = 0; p < targets.size(); ++p) sources[next[targets[p]]++] = static_cast<int>(p);
+}
+/// Grain of the parallel loops over entries and staging slots
+constexpr int kEntryGrain = 4096;
+}  // namespace
+
+void HessianAssembler::PrepareStaging() {
+  staged_ = executor_ && executor_->GetNumThreads() > 1 && analyzed_;
+  if (!staged_) {
+    // release what a staged configuration held
+    DynamicArray<real>().swap(valueStage_);
+    DynamicArray<real>().swap(gradientStage_);
+    DynamicArray<int>().swap(valueSourceStart_);
+    DynamicArray<int>().swap(valueSources_);
+    DynamicArray<int>().swap(gradientSourceStart_);
+    DynamicArray<int>().swap(gradientSources_);
+    return;
+  }
+  valueStage_.assign(slots_.size(), 0);
+  gradientStage_.assign(dofs_.size(), 0);
+  InvertMap(slots_, static_cast<int>(matrix_.values.size()), valueSourceStart_, valueSources_);
+  InvertMap(dofs_, matrix_.size, gradientSourceStart_, gradientSources_);
+}
+
+void HessianAssembler::BeginAssembly(Span<real> gradient) {
+  gradient_ = gradient;
+  if (!staged_) {
+    std::fill(gradient.begin(), gradient.end(), real(0));
+    ZeroValues();
+    return;
+  }
+  // FinishAssembly overwrites values and gradient: only the stages are zeroed
+  auto zero = [](DynamicArray<real>& stage) {
+    return [&stage](int begin, int end, int) { std::fill(stage.begin() + begin, stage.begin() + end, real(0)); };
+  };
+  executor_->For(static_cast<int>(valueStage_.size()), kEntryGrain, zero(valueStage_));
+  executor_->For(static_cast<int>(gradientStage_.size()), kEntryGrain, zero(gradientStage_));
+}
+
+void HessianAssembler::FinishAssembly() {
+  if (!staged_) return;
+  // every entry: 0 + its contributions in contributor order, as the serial
+  // assembly adds them
+  auto sum = [](DynamicArray<int> const& start, DynamicArray<int> const& sources, DynamicArray<real> const& stage,
+                real* out) {
+    return [&start, &sources, &stage, out](int begin, int end, int) {
+      for (int t = begin; t < end; ++t) {
+        real total = 0;
+        for (int k = start[t]; k < start[t + 1]; ++k) total += stage[sources[k]];
+        out[t] = total;
+      }
+    };
+  };
+  executor_->For(static_cast<int>(matrix_.values.size()), kEntryGrain,
+                 sum(valueSourceStart_, valueSources_, valueStage_, matrix_.values.data()));
+  executor_->For(matrix_.size, kEntryGrain,
+                 sum(gradientSourceStart_, gradientSources_, gradientStage_, gradient_.data()));
 }
 
 void HessianAssembler::ZeroValues() { std::fill(matrix_.values.begin(), matrix_.values.end(), 0); }

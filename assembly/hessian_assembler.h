@@ -1,13 +1,24 @@
-// Two-phase assembly of the global Hessian (design.md §6).
+// Two-phase assembly of the global Hessian and gradient (design.md §6).
 //
 // Analyze (topology changes only): from every contributor's DoF list build
 // the block graph, order it (METIS), build the upper-triangle CSC pattern of
 // P H Pᵀ, and precompute for every contributor the value slot of each entry
 // of its local upper triangle. Bumps the pattern version.
 //
-// Assemble (every Newton iteration): ZeroValues, then each contributor adds
-// its dense local block through its slot table: no search, no triplets, no
-// sort, no allocation.
+// Assemble (every Newton iteration): BeginAssembly zeroes the values and the
+// gradient; each contributor adds its local gradient (AddGradient) and its
+// dense local block (AddBlock) through its DoF list and slot table: no
+// search, no triplets, no sort, no allocation; FinishAssembly completes it.
+//
+// Threads. With one thread, contributions are added straight into the matrix
+// and the gradient, contributor after contributor. With several
+// (SetExecutor), contributors are evaluated concurrently (ParallelFor) and
+// each writes only its own staging slots; FinishAssembly then sums, for every
+// matrix entry and gradient entry, its contributions in contributor order,
+// in parallel over entries. Both sum the same numbers in the same order from
+// zero, so the assembled values are bit-identical for any thread count.
+// Contract: each contributor adds at most one gradient and one block per
+// assembly (a second call would be summed in another order when staged).
 //
 // Gradients stay in natural DoF order; PermuteToOrdered/PermuteToNatural map
 // vectors between the two orders around the linear solve.
@@ -16,11 +27,17 @@
 #include <cstdint>
 
 #include <superdex/assembly/ordering.h>
+#include <superdex/core/parallel.h>
 #include <superdex/core/error.h>
 #include <superdex/core/types.h>
 #include <superdex/linsolve/sparse_symmetric_matrix.h>
 
 namespace superdex::internal {
+
+/// Indices per chunk of the parallel assembly loops: elements and stencils
+/// (~1–10 µs each), and node inertia blocks (~10 ns each)
+inline constexpr int kElementGrain = 64;
+inline constexpr int kNodeGrain = 2048;
 
 class HessianAssembler {
  public:
@@ -33,24 +50,67 @@ class HessianAssembler {
 
   bool IsAnalyzed() const { return analyzed_; }
   int GetNumDofs() const { return matrix_.size; }
-  int GetNumContributors() const { return static_cast<int>(contributorSize_.size()); }
+  int GetNumContributors() const { return static_cast<int>(slotStart_.size()); }
   /// How many times Analyze built a pattern since construction.
   std::int64_t GetNumPatternBuilds() const { return numBuilds_; }
 
+  /// The threads of ParallelFor and of the staged sums; nullptr (the
+  /// default) or one thread: serial. Staging memory is sized here and at
+  /// Analyze. The executor must outlive the assembler's use of it.
+  void SetExecutor(ParallelExecutor const* executor);
+  bool IsStaged() const { return staged_; }
+
+  /// Starts an assembly into `gradient` (natural order, GetNumDofs()
+  /// entries): zeroes it and the matrix values.
+  void BeginAssembly(Span<real> gradient);
+  /// Completes an assembly (staged: sums the contributions; serial: nothing).
+  void FinishAssembly();
+  /// Zeroes the matrix values only (no gradient; tests of the pattern).
   void ZeroValues();
   /// Adds `relative` × |Hⱼⱼ| to every diagonal entry of the assembled values
   /// (a Levenberg shift, scaled per DoF).
   void ShiftDiagonal(real relative);
 
+  /// Runs body(begin, end, thread) over [0, count) on the executor's threads
+  /// (serially, in order, without one); `thread` indexes per-thread scratch.
+  template <class F>
+  void ParallelFor(int count, int grain, F&& body) const {
+    if (executor_ && staged_)
+      executor_->For(count, grain, std::forward<F>(body));
+    else if (count > 0)
+      body(0, count, 0);
+  }
+  int GetNumThreads() const { return executor_ && staged_ ? executor_->GetNumThreads() : 1; }
+
+  /// Adds the local gradient `g` (n entries, in DoF-list order) of
+  /// contributor `c`.
+  template <class Derived>
+  void AddGradient(int c, Eigen::MatrixBase<Derived> const& g) {
+    int const first = dofStart_[c], n = dofStart_[c + 1] - first;
+    if (staged_) {
+      real* out = gradientStage_.data() + first;
+      for (int a = 0; a < n; ++a) out[a] += g[a];
+    } else {
+      int const* dofs = dofs_.data() + first;
+      for (int a = 0; a < n; ++a) gradient_[dofs[a]] += g[a];
+    }
+  }
+
   /// Adds the symmetric local block `h` (n×n, n = the contributor's DoF
   /// count, in DoF-list order) of contributor `c`. Reads the upper triangle.
   template <class Derived>
   void AddBlock(int c, Eigen::MatrixBase<Derived> const& h) {
-    int const n = contributorSize_[c];
+    int const n = dofStart_[c + 1] - dofStart_[c];
     int const* slot = slots_.data() + slotStart_[c];
-    real* values = matrix_.values.data();
-    for (int a = 0; a < n; ++a)
-      for (int b = a; b < n; ++b) values[*slot++] += h(a, b);
+    if (staged_) {
+      real* out = valueStage_.data() + slotStart_[c];
+      for (int a = 0; a < n; ++a)
+        for (int b = a; b < n; ++b) *out++ += h(a, b);
+    } else {
+      real* values = matrix_.values.data();
+      for (int a = 0; a < n; ++a)
+        for (int b = a; b < n; ++b) values[*slot++] += h(a, b);
+    }
   }
 
   SparseSymmetricMatrix const& GetMatrix() const { return matrix_; }
@@ -61,13 +121,26 @@ class HessianAssembler {
   void PermuteToNatural(Span<real const> ordered, Span<real> natural) const;
 
  private:
+  /// Sizes the staging buffers and builds the entry → contributions maps.
+  void PrepareStaging();
+
   bool analyzed_ = false;
   std::int64_t numBuilds_ = 0;
   SparseSymmetricMatrix matrix_;
   DynamicArray<int> permutation_;  ///< natural DoF → ordered position
-  DynamicArray<int> contributorSize_;
-  DynamicArray<int> slotStart_;
-  DynamicArray<int> slots_;
+  DynamicArray<int> dofStart_;     ///< per contributor, into dofs_ (one past the end last)
+  DynamicArray<int> dofs_;         ///< the contributors' DoF lists, concatenated
+  DynamicArray<int> slotStart_;    ///< per contributor, into slots_
+  DynamicArray<int> slots_;        ///< value index of each local upper-triangle entry
+  Span<real> gradient_;            ///< of the assembly in progress
+
+  // staged assembly (several threads)
+  ParallelExecutor const* executor_ = nullptr;
+  bool staged_ = false;
+  DynamicArray<real> valueStage_;     ///< per slot (slots_ order)
+  DynamicArray<real> gradientStage_;  ///< per contributor DoF (dofs_ order)
+  DynamicArray<int> valueSourceStart_, valueSources_;        ///< value index → slot positions, ascending
+  DynamicArray<int> gradientSourceStart_, gradientSources_;  ///< DoF → dofs_ positions, ascending
 };
 
 }  // namespace superdex::internal

@@ -17,6 +17,9 @@ target_link_libraries(SuperDex::metis INTERFACE ${METIS_LIBRARY})
 
 # PETSc (Debian's petsc-dev, with OpenMPI): pkg-config gives PETSc's own
 # include and library; MPI's headers come from FindMPI.
+# oneTBB: the task arena of the parallel loops (core/parallel.h)
+find_package(TBB REQUIRED CONFIG)
+
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(PETSC REQUIRED IMPORTED_TARGET PETSc)
 find_package(MPI REQUIRED COMPONENTS C)

@@ -343,8 +343,7 @@ real Constraint::Energy(real h, internal::ConstraintWorkspace& ws) const {
   return internal::CompliantEnergy(stageParams_, g, stageStartValue_, h);
 }
 
-void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
-                                       internal::HessianAssembler& assembler, int contributor,
+void Constraint::AddGradientAndHessian(real h, internal::HessianAssembler& assembler, int contributor,
                                        ConstraintHessian sceneHessian, bool projectHessian,
                                        internal::ConstraintWorkspace& ws) const {
   Evaluate(target_, ws);
@@ -362,7 +361,7 @@ void Constraint::AddGradientAndHessian(real h, Span<real> gradient,
   real const scale =
       internal::CompliantForceCoefficients(stageParams_, g, stageStartValue_, h, ws.f.head(m));
   ws.r.head(n).noalias() = jacobian.transpose() * ws.f.head(m);
-  for (int i = 0; i < n; ++i) gradient[dofs_[i]] += ws.r[i];
+  assembler.AddGradient(contributor, ws.r.head(n));
   auto hessian = ws.hessian.topLeftCorner(n, n);
   hessian.noalias() = scale * jacobian.transpose() * jacobian;
 

@@ -251,7 +251,9 @@ class Constraint {
   /// Also records Newton's linearization (g and J here) for the two calls
   /// below. The geometric stiffness is weighted with the force estimate f̂
   /// (PredictForce) once one exists in this stage, else with f(g).
-  void AddGradientAndHessian(real h, Span<real> gradient, internal::HessianAssembler& assembler,
+  /// Safe to run concurrently for different constraints, each with its own
+  /// workspace (it writes only this constraint's linearization).
+  void AddGradientAndHessian(real h, internal::HessianAssembler& assembler,
                              int contributor, ConstraintHessian sceneHessian, bool projectHessian,
                              internal::ConstraintWorkspace& ws) const;
   /// After the line search accepted α δ (`delta` in global DoF order): the

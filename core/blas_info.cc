@@ -111,7 +111,36 @@ class BlasSymbols {
   std::string providerPath_;
 };
 
+/// OpenBLAS's thread controls, looked up once.
+struct BlasThreadControl {
+  BlasThreadControl() {
+    BlasSymbols const blas;
+    set = blas.Find<void (*)(int)>("openblas_set_num_threads");
+    if (auto const get = blas.Find<int (*)()>("openblas_get_num_threads")) startThreads = std::max(1, get());
+    current = startThreads;
+  }
+  void (*set)(int) = nullptr;
+  int startThreads = 1;
+  int current = 1;
+};
+
+BlasThreadControl& ThreadControl() {
+  static BlasThreadControl control;
+  return control;
+}
+
 }  // namespace
+
+int BlasStartThreads() { return ThreadControl().startThreads; }
+
+void SetBlasThreads(int numThreads) {
+  BlasThreadControl& control = ThreadControl();
+  numThreads = std::max(1, numThreads);
+  if (!control.set || numThreads == control.current) return;
+  control.set(numThreads);
+  control.current = numThreads;
+}
+
 }  // namespace internal
 
 BlasInfo GetBlasInfo() {

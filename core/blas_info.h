@@ -47,4 +47,14 @@ struct BlasInfo {
 /// determine are left empty (see each field).
 BlasInfo GetBlasInfo();
 
+namespace internal {
+/// The threads OpenBLAS runs its kernels on when it loaded
+/// (OPENBLAS_NUM_THREADS, else every CPU); 1 for other BLAS libraries.
+int BlasStartThreads();
+/// Sets OpenBLAS's thread count (openblas_set_num_threads) when it differs
+/// from the last count set here; a no-op for other BLAS libraries. The
+/// factorizations choose it by their size (CholmodSolver).
+void SetBlasThreads(int numThreads);
+}  // namespace internal
+
 }  // namespace superdex

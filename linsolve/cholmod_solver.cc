@@ -6,6 +6,8 @@
 
 #include <cholmod.h>
 
+#include <superdex/core/blas_info.h>
+
 namespace superdex::internal {
 
 struct CholmodSolver::Impl {
@@ -227,6 +229,10 @@ LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   Impl& impl = *impl_;
   if (a.size == 0) return {};
 
+  // OpenBLAS threads by the factorization's size: below kParallelBlasFlops
+  // the supernodes are too small for a second thread to pay for its
+  // start-up and synchronization (docs/linear_solvers.md, "BLAS threads")
+  internal::SetBlasThreads(impl.factorFlops >= kParallelBlasFlops ? internal::BlasStartThreads() : 1);
   cholmod_sparse matrix = WrapUpperTriangle(a, /*withValues=*/true);
   int const ok = cholmod_factorize(&matrix, impl.factor, &impl.common);
   int const status = impl.common.status;

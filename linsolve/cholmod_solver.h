@@ -28,6 +28,10 @@
 
 namespace superdex::internal {
 
+/// Factorizations of at least this many flops run OpenBLAS on all its
+/// threads, smaller ones on one (measured, docs/linear_solvers.md).
+inline constexpr double kParallelBlasFlops = 2e8;
+
 /// The ordering cholmod_analyze uses.
 enum class CholmodOrdering {
   Given,           ///< natural: trust the caller's (already fill-reducing) column order

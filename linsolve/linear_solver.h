@@ -166,6 +166,8 @@ class LinearSolver {
   LinearSolveResult Resume(Span<real const> b, Span<real> x);
 
   bool IsAnalyzed() const { return analyzed_; }
+  /// True when Solve can run: a Factorize succeeded since the last Analyze.
+  bool IsFactorized() const { return factorized_; }
   std::uint64_t GetAnalyzedPatternVersion() const { return analyzedVersion_; }
 
   virtual LinearSolverType GetType() const = 0;

@@ -115,13 +115,25 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
     return nullptr;
   if (!CheckNonNegative(params.newton.nearRigidBeta, "SceneParams.newton.nearRigidBeta", error))
     return nullptr;
+  if (!(params.newton.factorReuseTolerance > 0 && params.newton.factorReuseTolerance < 1)) {
+    error.Set(ErrorCode::InvalidArgument,
+              "SceneParams.newton.factorReuseTolerance must be in (0, 1), got " +
+                  internal::Format(params.newton.factorReuseTolerance));
+    return nullptr;
+  }
   if (params.newton.maxLineSearchSteps <= 0) {
     error.Set(ErrorCode::InvalidArgument, "SceneParams.newton.maxLineSearchSteps must be > 0, got " +
                                                std::to_string(params.newton.maxLineSearchSteps));
     return nullptr;
   }
   if (!CheckSubstepParams(params.substeps, "SceneParams.substeps.", error)) return nullptr;
+  if (params.numThreads < 0) {
+    error.Set(ErrorCode::InvalidArgument,
+              "SceneParams.numThreads must be >= 0 (0: every CPU), got " + std::to_string(params.numThreads));
+    return nullptr;
+  }
   std::unique_ptr<Scene> scene(new Scene(params));
+  scene->solver_->SetNumThreads(params.numThreads);
   if (!scene->solver_->SetLinearSolver(params.linearSolver, params.pcg, error)) {
     // name the field as the caller wrote it
     std::string message = error.GetMessage();
@@ -613,6 +625,19 @@ bool Scene::SetSubstepParams(SubstepParams const& substeps, Error& error) {
   return true;
 }
 
+bool Scene::SetNumThreads(int numThreads, Error& error) {
+  if (numThreads < 0) {
+    error.Set(ErrorCode::InvalidArgument,
+              "numThreads must be >= 0 (0: every CPU), got " + std::to_string(numThreads));
+    return false;
+  }
+  solver_->SetNumThreads(numThreads);
+  params_.numThreads = numThreads;
+  return true;
+}
+
+int Scene::GetNumThreads() const { return solver_->GetNumThreads(); }
+
 bool Scene::Step(real dt, Error& error) {
   if (!internal::CheckPositive(dt, "dt", error)) return false;
   auto const start = std::chrono::steady_clock::now();
@@ -627,6 +652,8 @@ bool Scene::Step(real dt, Error& error) {
   stats_.diagonalShifts = 0;
   stats_.secondOrderCorrections = 0;
   stats_.truncatedSolves = 0;
+  stats_.factorizations = 0;
+  stats_.reusedFactorSolves = 0;
   stats_.nearRigidConstraints = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;

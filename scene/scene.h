@@ -159,6 +159,11 @@ class Scene {
   /// Sets the sub-stepping policy between steps (maxSubsteps a power of two
   /// >= 1; 1 turns it off). On invalid input nothing changes.
   bool SetSubstepParams(SubstepParams const& substeps, Error& error);
+  /// Threads of the assembly (SceneParams::numThreads): 0 = every CPU this
+  /// process may use. Results do not depend on it. InvalidArgument below 0.
+  bool SetNumThreads(int numThreads, Error& error);
+  /// The threads the assembly runs on (0 resolved to the CPU count).
+  int GetNumThreads() const;
   /// Switches the linear solver between steps; the new backend analyzes the
   /// cached pattern at the next step. `pcg` configures PetscPcg (validated
   /// even when another type is chosen). On failure nothing changes.

@@ -58,6 +58,18 @@ struct NewtonParams {
   /// smaller β caps less. SceneStats::nearRigidConstraints counts the capped
   /// constraints; docs/constraints.md "Near-rigid constraints (opt-in)".
   real nearRigidBeta = 0;
+  /// Direct linear solvers (CHOLMOD, dense): a Newton iteration first solves
+  /// its own Hessian's system by conjugate gradients preconditioned with the
+  /// last numeric factorization (of an earlier iteration or step, same
+  /// pattern), to the relative residual `factorReuseTolerance`, and
+  /// refactorizes only when that CG meets negative curvature or needs more
+  /// iterations than one factorization costs (the cap comes from the factor's
+  /// flop counts, docs/linear_solvers.md "Reused factorizations"). The step
+  /// is the current Hessian's Newton step to that residual, so Newton
+  /// converges to the same state. Off: every iteration refactorizes.
+  /// SceneStats::factorizations and reusedFactorSolves count both kinds.
+  bool reuseFactorization = true;
+  real factorReuseTolerance = 1e-6;  ///< in (0, 1)
 };
 
 /// Automatic sub-stepping: a policy for steps that fail, off by default.
@@ -88,6 +100,12 @@ struct SceneParams {
   LinearSolverType linearSolver = LinearSolverType::Auto;
   PcgParams pcg;  ///< used when linearSolver is PetscPcg
   OrderingMethod ordering = OrderingMethod::Metis;
+  /// Threads of the assembly (elements, stencils and constraints evaluated
+  /// concurrently): 0 (the default) uses every CPU this process may run on,
+  /// n >= 1 exactly n. The assembled Hessian and gradient, hence every
+  /// result, are bit-identical for any thread count (docs/architecture.md,
+  /// "Parallel assembly"). >= 0.
+  int numThreads = 0;
 };
 
 /// Counters since the scene was created, and figures of the last step.
@@ -108,7 +126,7 @@ struct SceneStats {
   /// k for one taken as k sub-steps of dt/k (0 before the first step).
   int substeps = 0;
   int newtonIterations = 0;
-  int linearIterations = 0;        ///< iterative solvers; 0 for direct ones
+  int linearIterations = 0;        ///< CG iterations: PCG, and direct solvers' reused-factor solves
   int projectionFallbacks = 0;     ///< Newton iterations re-assembled with projected Hessians
   /// Refactorizations of a projected Hessian that failed by round-off, with
   /// its diagonal shifted (1e-8 |Hⱼⱼ|, then ×100 up to 1e-2)
@@ -124,6 +142,12 @@ struct SceneStats {
   /// PCG solves stopped at PcgParams::maxIterations that Newton took as
   /// inexact steps (PcgParams::truncatedSteps)
   int truncatedSolves = 0;
+  /// Numeric factorizations (direct solvers) or preconditioner set-ups
+  /// (PCG), every retry included
+  int factorizations = 0;
+  /// Newton systems solved by CG with a reused factorization as the
+  /// preconditioner (NewtonParams::reuseFactorization), without factorizing
+  int reusedFactorSolves = 0;
   int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
                                    ///< inexact-Newton re-solves and second-order corrections)
   /// Constraints whose k and d the near-rigid cap (NewtonParams::

@@ -18,6 +18,19 @@ constexpr real kRoundOffUlps = 64;
 constexpr int kMaxExpansions = 20;
 /// Chord iterations of a second-order correction
 constexpr int kMaxCorrections = 4;
+/// Reused factorizations: a numeric factorization runs at about this many
+/// times the flop rate of a CG iteration with the factor (two triangular
+/// solves and a product, memory-bound); docs/linear_solvers.md ("Reused
+/// factorizations") measured it. Reuse is tried when a factorization is worth
+/// at least kMinReuseIterations CG iterations, and CG stops at
+/// kMaxReuseIterations whatever the factorization is worth.
+constexpr real kFactorToSolveRate = 10;
+constexpr int kMinReuseIterations = 3;
+constexpr int kMaxReuseIterations = 50;
+/// Reused-factor solves that fail in a row before a stage stops trying
+constexpr int kMaxReuseFailures = 2;
+/// Constraints per chunk of the parallel assembly (~1 µs each)
+constexpr int kConstraintGrain = 32;
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -58,6 +71,9 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   ordering_ = ordering;
   firstContributor_ = std::move(firstContributor);
   constraintWorkspace_.Reserve(maxDimension, maxDofs);
+  maxConstraintDimension_ = maxDimension;
+  maxConstraintDofs_ = maxDofs;
+  ReserveThreadWorkspaces();
   gradient_.setZero(numDofs);
   delta_.setZero(numDofs);
   dofLengthScales_.setOnes(numDofs);
@@ -66,10 +82,22 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   orderedSolution_.setZero(numDofs);
   newtonStep_.setZero(numDofs);
   correctedStep_.setZero(numDofs);
+  reuseCg_.Reserve(numDofs);
   stats.patternBuilds = assembler_.GetNumPatternBuilds();
   stats.numDofs = numDofs;
   stats.hessianNonzeros = assembler_.GetMatrix().NumNonzeros();
   return true;
+}
+
+void StageSolver::SetNumThreads(int numThreads) {
+  executor_.SetNumThreads(numThreads);
+  assembler_.SetExecutor(&executor_);
+  ReserveThreadWorkspaces();
+}
+
+void StageSolver::ReserveThreadWorkspaces() {
+  threadWorkspaces_.resize(executor_.GetNumThreads());
+  for (ConstraintWorkspace& ws : threadWorkspaces_) ws.Reserve(maxConstraintDimension_, maxConstraintDofs_);
 }
 
 bool StageSolver::SetLinearSolver(LinearSolverType type, PcgParams const& pcg, Error& error) {
@@ -143,6 +171,42 @@ LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats, bool resume)
   stats.linearIterations += result.iterations;
   ++stats.linearSolves;
   return result;
+}
+
+int StageSolver::ReuseIterationCap() const {
+  double const factorFlops = solver_->GetFactorFlops();
+  double const factorNonzeros = solver_->GetFactorNonzeros();
+  if (!(factorFlops > 0) || !(factorNonzeros > 0)) return 0;
+  // a CG iteration: L and Lᵀ solves (2 nnz(L) multiply-adds each) and the
+  // product with the stored upper triangle (2 per entry)
+  double const iterationFlops = 4 * factorNonzeros + 4 * double(assembler_.GetMatrix().NumNonzeros());
+  return static_cast<int>(std::min<double>(kMaxReuseIterations, factorFlops / (kFactorToSolveRate * iterationFlops)));
+}
+
+bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, SceneStats& stats) {
+  if (!newton.reuseFactorization || solver_->IsIterative() || !solver_->IsFactorized() ||
+      reuseFailuresInRow_ >= kMaxReuseFailures)
+    return false;
+  int const cap = ReuseIterationCap();
+  if (cap < kMinReuseIterations) return false;
+  auto const start = Clock::now();
+  int const n = static_cast<int>(gradient_.size());
+  assembler_.PermuteToOrdered(Span<real const>(gradient_.data(), n), Span<real>(orderedRhs_.data(), n));
+  orderedRhs_ = -orderedRhs_;
+  ReusedFactorCg::Result const result =
+      reuseCg_.Solve(assembler_.GetMatrix(), *solver_, Span<real const>(orderedRhs_.data(), n),
+                     Span<real>(orderedSolution_.data(), n), newton.factorReuseTolerance, cap);
+  stats.solveSeconds += SecondsSince(start);
+  stats.linearIterations += result.iterations;
+  ++stats.linearSolves;
+  if (result.status != ReusedFactorCg::Status::Converged) {
+    ++reuseFailuresInRow_;
+    return false;
+  }
+  reuseFailuresInRow_ = 0;
+  ++stats.reusedFactorSolves;
+  assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), n), Span<real>(delta_.data(), n));
+  return true;
 }
 
 bool StageSolver::Usable(LinearSolveResult const& result) const {
@@ -264,6 +328,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
   real lastStepNorm = 0;
   int const truncatedBefore = stats.truncatedSolves;
   bool lastChangeUnresolved = false;  ///< the last accepted step changed Eᵢ below its resolution
+  reuseFailuresInRow_ = 0;
   for (int iteration = 1; iteration <= newton.maxIterations; ++iteration) {
     ++stats.newtonIterations;
 
@@ -281,14 +346,17 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     bool forcingSet = false;
     for (;;) {
       auto start = Clock::now();
-      gradient_.setZero();
-      assembler_.ZeroValues();
+      assembler_.BeginAssembly(gradient);
       for (std::size_t a = 0; a < actors.size(); ++a)
-        actors[a]->AddGradientAndHessian(gradient, assembler_, firstContributor_[a], project);
-      for (std::size_t c = 0; c < constraints.size(); ++c)
-        constraints[c]->AddGradientAndHessian(h, gradient, assembler_,
-                                              firstContributor_[numConstraintsStart + c],
-                                              newton.constraintHessian, project, constraintWorkspace_);
+        actors[a]->AddGradientAndHessian(assembler_, firstContributor_[a], project);
+      assembler_.ParallelFor(static_cast<int>(constraints.size()), kConstraintGrain,
+                             [&](int begin, int end, int thread) {
+                               for (int c = begin; c < end; ++c)
+                                 constraints[c]->AddGradientAndHessian(
+                                     h, assembler_, firstContributor_[numConstraintsStart + c],
+                                     newton.constraintHessian, project, threadWorkspaces_[thread]);
+                             });
+      assembler_.FinishAssembly();
       stats.assemblySeconds += SecondsSince(start);
       stats.gradientNorm = gradient_.lpNorm<Eigen::Infinity>();
       if (!std::isfinite(stats.gradientNorm)) {
@@ -297,16 +365,21 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
         return false;
       }
 
-      start = Clock::now();
-      result = solver_->Factorize(assembler_.GetMatrix());
-      stats.factorizationSeconds += SecondsSince(start);
-      // once per iteration: a projected retry has the same gradient
-      if (inexact && !forcingSet) {
-        forcingTerm = ForcingTerm(iteration, gradient_.norm());
-        solver_->SetRelativeTolerance(forcingTerm);
-        forcingSet = true;
+      if (SolveWithReusedFactor(newton, stats)) {
+        result = LinearSolveResult{};
+      } else {
+        start = Clock::now();
+        result = solver_->Factorize(assembler_.GetMatrix());
+        stats.factorizationSeconds += SecondsSince(start);
+        ++stats.factorizations;
+        // once per iteration: a projected retry has the same gradient
+        if (inexact && !forcingSet) {
+          forcingTerm = ForcingTerm(iteration, gradient_.norm());
+          solver_->SetRelativeTolerance(forcingTerm);
+          forcingSet = true;
+        }
+        if (result.Ok()) result = SolveNewtonSystem(stats);
       }
-      if (result.Ok()) result = SolveNewtonSystem(stats);
       bool const notDescent = Usable(result) && !(gradient_.dot(delta_) < 0);
       if (project || (result.status != LinearSolveStatus::NotPositiveDefinite && !notDescent))
         break;
@@ -326,6 +399,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       auto const start = Clock::now();
       result = solver_->Factorize(assembler_.GetMatrix());
       stats.factorizationSeconds += SecondsSince(start);
+      ++stats.factorizations;
       if (result.Ok()) result = SolveNewtonSystem(stats);
       ++stats.diagonalShifts;
     }

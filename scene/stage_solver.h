@@ -16,6 +16,7 @@
 #include <superdex/constraints/constraint.h>
 #include <superdex/core/error.h>
 #include <superdex/linsolve/linear_solver.h>
+#include <superdex/linsolve/reused_factor_cg.h>
 #include <superdex/scene/scene_params.h>
 
 namespace superdex {
@@ -36,6 +37,11 @@ class StageSolver {
   bool Analyze(DynamicArray<Actor*> const& actors, DynamicArray<Constraint*> const& constraints,
                OrderingMethod ordering, SceneStats& stats, Error& error);
 
+  /// Threads of the assembly (SceneParams::numThreads: 0 = every CPU this
+  /// process may use); the assembled values do not depend on it.
+  void SetNumThreads(int numThreads);
+  int GetNumThreads() const { return executor_.GetNumThreads(); }
+
   /// Chooses the backend (kAuto resolves by size) and the PCG settings
   /// (validated); the new backend analyzes the cached pattern lazily at the
   /// next solve. Returns false (nothing changed) on invalid input.
@@ -53,12 +59,21 @@ class StageSolver {
   LinearSolver const* GetLinearSolver() const { return solver_.get(); }
 
  private:
+  void ReserveThreadWorkspaces();
   real TotalEnergy(DynamicArray<Actor*> const& actors, DynamicArray<Constraint*> const& constraints,
                    real h);
   bool EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneStats& stats, Error& error);
   /// H δ = −∇E with the current factorization/set-up: permutes the gradient,
   /// solves, permutes δ back; adds the solve time and iterations to `stats`.
   LinearSolveResult SolveNewtonSystem(SceneStats& stats, bool resume = false);
+  /// NewtonParams::reuseFactorization: solves H δ = −∇E by CG preconditioned
+  /// with the direct solver's last factorization (of an earlier matrix).
+  /// True, with δ in delta_, when that CG converged; false when reuse does
+  /// not apply or did not pay (the caller factorizes).
+  bool SolveWithReusedFactor(NewtonParams const& newton, SceneStats& stats);
+  /// The most CG iterations a reused factorization may take: the iterations
+  /// that cost one numeric factorization, by the factor's flop counts.
+  int ReuseIterationCap() const;
   /// A solve Newton can step with: converged, or truncated at the PCG cap
   /// with PcgParams::truncatedSteps on.
   bool Usable(LinearSolveResult const& result) const;
@@ -76,6 +91,7 @@ class StageSolver {
                              DynamicArray<Constraint*> const& constraints, real h, real energy,
                              real slope, SceneStats& stats, real& trialEnergy);
 
+  ParallelExecutor executor_;
   HessianAssembler assembler_;
   LinearSolverType requestedSolver_ = LinearSolverType::Auto;
   PcgParams pcg_;
@@ -84,11 +100,15 @@ class StageSolver {
   MatrixX nearNullSpace_;  ///< rigid-body modes (AMG), rebuilt with the pattern
   std::unique_ptr<LinearSolver> solver_;
   ConstraintWorkspace constraintWorkspace_;
+  DynamicArray<ConstraintWorkspace> threadWorkspaces_;  ///< one per assembly thread
+  int maxConstraintDimension_ = 1, maxConstraintDofs_ = 1;
   DynamicArray<int> firstContributor_;  ///< per actor, then per constraint
   VectorX gradient_, delta_, orderedRhs_, orderedSolution_;
   VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction
   VectorX dofLengthScales_;  ///< ℓⱼ per DoF (Actor::WriteDofLengthScales)
   VectorX dofInverseMasses_;  ///< 1/M_jj per DoF (Actor::WriteDofInverseMasses), near-rigid cap only
+  ReusedFactorCg reuseCg_;
+  int reuseFailuresInRow_ = 0;  ///< reused-factor solves that did not converge, this stage
   real energyScale_ = 0;     ///< Σ|terms| of Eᵢ at the last TotalEnergy
   FaultInjection fault_;
 };

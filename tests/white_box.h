@@ -55,7 +55,9 @@ struct ConstraintTestAccess {
                                     ConstraintWorkspace& ws,
                                     ConstraintHessian mode = ConstraintHessian::GaussNewton,
                                     bool project = true) {
-    c.AddGradientAndHessian(h, gradient, assembler, contributor, mode, project, ws);
+    assembler.BeginAssembly(gradient);
+    c.AddGradientAndHessian(h, assembler, contributor, mode, project, ws);
+    assembler.FinishAssembly();
   }
   /// Σᵢ wᵢ ∂²gᵢ/∂q² at the current configuration and target (n×n).
   static MatrixX Curvature(Constraint const& c, VectorX const& weights) {
@@ -81,7 +83,9 @@ struct ActorTestAccess {
   static real Energy(Actor const& a) { return a.Energy(); }
   static void AddGradientAndHessian(Actor const& a, Span<real> gradient, HessianAssembler& assembler,
                                     int firstContributor, bool projectHessian = true) {
-    a.AddGradientAndHessian(gradient, assembler, firstContributor, projectHessian);
+    assembler.BeginAssembly(gradient);
+    a.AddGradientAndHessian(assembler, firstContributor, projectHessian);
+    assembler.FinishAssembly();
   }
   static void AppendContributorDofs(Actor const& a, DynamicArray<DynamicArray<int>>& dofLists) {
     a.AppendContributorDofs(dofLists);

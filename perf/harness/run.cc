@@ -201,13 +201,15 @@ struct MethodDef {
   OrderingMethod ordering = OrderingMethod::Metis;
   bool reuseAmgInterpolation = false;
   bool adaptiveTolerance = false;
+  bool reuseFactorization = true;  ///< direct solvers: NewtonParams::reuseFactorization
 };
 
 using Pc = PcgPreconditioner;
 constexpr auto kPcg = LinearSolverType::PetscPcg;
 
-std::array<MethodDef, 12> const kMethods{{
+std::array<MethodDef, 13> const kMethods{{
     {"cholmod", LinearSolverType::Cholmod},
+    {"cholmod-refactor", LinearSolverType::Cholmod, Pc::None, OrderingMethod::Metis, false, false, false},
     {"cholmod-amd", LinearSolverType::Cholmod, Pc::None, OrderingMethod::SolverDefault},
     {"dense", LinearSolverType::Dense},
     {"pcg-none", kPcg, Pc::None},
@@ -251,6 +253,7 @@ bool MakeMethod(RunSpec const& spec, Method& method) {
   method.pcg.maxIterations = spec.pcgMaxIterations;
   method.pcg.reuseAmgInterpolation = def->reuseAmgInterpolation;
   method.pcg.adaptiveTolerance = def->adaptiveTolerance;
+  method.reuseFactorization = def->reuseFactorization;
   // the Eisenstat–Walker cap must stay >= rtol
   method.pcg.adaptiveMaxTolerance = std::max(method.pcg.adaptiveMaxTolerance, spec.rtol);
   return true;
@@ -279,7 +282,7 @@ bool MethodAvailable(std::string_view label, std::string& why) {
 std::array<std::string_view, kNumColumns> const kColumnNames{
     "suite", "study", "family", "size", "dofs", "material", "stiffness_ratio", "method", "solver",
     "preconditioner", "rtol", "newton_tol", "constraint_hessian", "near_rigid", "integrator", "dt", "steps",
-    "end_time", "newton_iterations", "linear_iterations", "linear_solves", "truncated_solves", "near_rigid_capped", "pattern_builds",
+    "end_time", "newton_iterations", "linear_iterations", "linear_solves", "truncated_solves", "factorizations", "reused_solves", "near_rigid_capped", "pattern_builds",
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
     "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
     "total_s", "peak_rss_mb", "error", "reference", "joint_drift", "energy_gain", "status",
@@ -391,6 +394,7 @@ bool RmsError(DynamicArray<Real3> const& x, DynamicArray<Real3> const& reference
 /// The figures summed over the steps of a run.
 struct Totals {
   long long newton = 0, linearIterations = 0, linearSolves = 0, truncatedSolves = 0;
+  long long factorizations = 0, reusedSolves = 0;
   int nearRigidCapped = 0;  ///< the most constraints the near-rigid cap lowered in a step
   double analysis = 0, assembly = 0, factorization = 0, solve = 0, lineSearch = 0, step = 0;
 
@@ -399,6 +403,8 @@ struct Totals {
     linearIterations += s.linearIterations;
     linearSolves += s.linearSolves;
     truncatedSolves += s.truncatedSolves;
+    factorizations += s.factorizations;
+    reusedSolves += s.reusedFactorSolves;
     nearRigidCapped = std::max(nearRigidCapped, s.nearRigidConstraints);
     analysis += s.analysisSeconds;
     assembly += s.assemblySeconds;
@@ -422,6 +428,8 @@ void FillMeasured(Row& row, Totals const& t, int steps, SceneStats const& s) {
   row[kLinearIterations] = Cell(t.linearIterations);
   row[kLinearSolves] = Cell(t.linearSolves);
   row[kTruncatedSolves] = Cell(t.truncatedSolves);
+  row[kFactorizations] = Cell(t.factorizations);
+  row[kReusedSolves] = Cell(t.reusedSolves);
   row[kNearRigidCapped] = Cell(t.nearRigidCapped);
   row[kNnzH] = Cell(s.hessianNonzeros);
   if (s.factorNonzeros > 0) row[kNnzL] = Cell(s.factorNonzeros, 9);
@@ -540,6 +548,7 @@ Row ExecuteRun(RunSpec const& spec) {
                                     : spec.constraintHessian == "gsd" ? ConstraintHessian::GeometricStiffnessDiagonal
                                                                       : ConstraintHessian::GeometricStiffness;
   params.newton.nearRigidBeta = spec.nearRigid;
+  params.newton.reuseFactorization = method.reuseFactorization;
   params.linearSolver = method.solver;
   params.pcg = method.pcg;
   params.ordering = method.ordering;

@@ -91,6 +91,7 @@ struct Method {
   PcgParams pcg;  ///< PetscPcg only
   OrderingMethod ordering = OrderingMethod::Metis;
   bool isPcg = false;
+  bool reuseFactorization = true;  ///< NewtonParams::reuseFactorization (direct solvers)
 };
 
 /// The method labels the harness knows, in display order.
@@ -111,7 +112,7 @@ inline constexpr int kDenseMaxDofs = 2000;
 enum Column : int {
   kSuite, kStudy, kFamily, kSize, kDofs, kMaterial, kStiffnessRatio, kMethod, kSolver,
   kPreconditioner, kRtol, kNewtonTol, kConstraintHessian, kNearRigid, kIntegrator, kDt, kSteps, kEndTime,
-  kNewtonIterations, kLinearIterations, kLinearSolves, kTruncatedSolves, kNearRigidCapped, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
+  kNewtonIterations, kLinearIterations, kLinearSolves, kTruncatedSolves, kFactorizations, kReusedSolves, kNearRigidCapped, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
   kNnzH, kNnzL, kFactorFlops, kAnalysisS, kAssemblyS, kFactorizationS, kSolveS, kLineSearchS,
   kOtherS, kWallPerStepS, kTotalS, kPeakRssMb, kError, kReference, kJointDrift, kEnergyGain,
   kStatus, kReason, kNumColumns

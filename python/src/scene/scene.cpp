@@ -262,6 +262,16 @@ void DefineScene(py::module_& m) {
           "scene.set_substep_params(max_substeps=8). max_substeps must be a power of two >= 1; "
           "on failure nothing changes.")
       .def(
+          "set_num_threads",
+          [](SceneOwner const& self, int numThreads) {
+            Checked([&](Error& e) { self.Get().SetNumThreads(numThreads, e); });
+          },
+          py::arg("num_threads"),
+          "Threads of the assembly (>= 0; 0: every CPU this process may use). Results are "
+          "bit-identical for any count.")
+      .def("get_num_threads", [](SceneOwner const& self) { return self.Get().GetNumThreads(); },
+           "The threads the assembly runs on.")
+      .def(
           "set_linear_solver",
           [](SceneOwner const& self, LinearSolverType type, std::optional<PcgParams> const& pcg) {
             Checked([&](Error& e) {

@@ -33,7 +33,14 @@ void DefineSceneParams(py::module_& m) {
              "constraint whose k + d/Δt exceeds 4π²/(β² Δt² w), w its inverse effective mass "
              "(largest diagonal entry of J diag(M)⁻¹ Jᵀ at the stage start), has k and d scaled "
              "down to that bound for the stage (d/k and the force cap k·ḡ kept). It changes the "
-             "answer; docs/constraints.md 'Near-rigid constraints (opt-in)'");
+             "answer; docs/constraints.md 'Near-rigid constraints (opt-in)'")
+      .Field("reuse_factorization", &N::reuseFactorization,
+             "direct solvers (CHOLMOD, dense): a Newton iteration first solves its own Hessian by "
+             "CG preconditioned with the last factorization, to factor_reuse_tolerance, and "
+             "refactorizes only when that does not pay; the converged state is full Newton's. "
+             "Default True")
+      .Field("factor_reuse_tolerance", &N::factorReuseTolerance,
+             "relative residual of those CG solves, in (0, 1), default 1e-6");
 
   ParamsClass<SubstepParams>(
       m, "SubstepParams",
@@ -58,7 +65,10 @@ void DefineSceneParams(py::module_& m) {
              "SubstepParams: retry of a failed step as sub-steps (off by default)")
       .Field("linear_solver", &S::linearSolver, "LinearSolverType, default Auto")
       .Field("pcg", &S::pcg, "PcgParams, used when linear_solver is PetscPcg")
-      .Field("ordering", &S::ordering, "OrderingMethod, default Metis");
+      .Field("ordering", &S::ordering, "OrderingMethod, default Metis")
+      .Field("num_threads", &S::numThreads,
+             "threads of the assembly, >= 0; 0 (default): every CPU this process may use. Results "
+             "are bit-identical for any count");
 
   using T = SceneStats;
   py::class_<T>(
@@ -77,7 +87,8 @@ void DefineSceneParams(py::module_& m) {
                     "last step: sub-steps of its last attempt (1: taken whole; 0 before the "
                     "first step); the figures below add up every attempt, failed ones included")
       .def_readonly("newton_iterations", &T::newtonIterations, "last step")
-      .def_readonly("linear_iterations", &T::linearIterations, "last step; iterative solvers only")
+      .def_readonly("linear_iterations", &T::linearIterations,
+                    "last step: CG iterations (PCG, and direct solvers' reused-factor solves)")
       .def_readonly("projection_fallbacks", &T::projectionFallbacks,
                     "last step: Newton iterations re-assembled with projected Hessians")
       .def_readonly("round_off_convergences", &T::roundOffConvergences,
@@ -95,6 +106,12 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("truncated_solves", &T::truncatedSolves,
                     "last step: PCG solves stopped at max_iterations that Newton took as inexact "
                     "steps (PcgParams.truncated_steps)")
+      .def_readonly("factorizations", &T::factorizations,
+                    "last step: numeric factorizations (direct solvers) or preconditioner set-ups "
+                    "(PCG)")
+      .def_readonly("reused_factor_solves", &T::reusedFactorSolves,
+                    "last step: Newton systems solved by CG with a reused factorization "
+                    "(NewtonParams.reuse_factorization), without factorizing")
       .def_readonly("linear_solves", &T::linearSolves, "last step")
       .def_readonly("near_rigid_constraints", &T::nearRigidConstraints,
                     "last step: constraints whose k and d the near-rigid cap lowered (the most in "

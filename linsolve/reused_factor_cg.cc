@@ -1,0 +1,101 @@
+#include <superdex/linsolve/reused_factor_cg.h>
+
+#include <cmath>
+
+namespace superdex::internal {
+
+void MultiplySymmetric(SparseSymmetricMatrix const& a, Span<real const> x, Span<real> y) {
+  int const n = a.size;
+  int const* colStart = a.colStart.data();
+  int const* rowIndex = a.rowIndex.data();
+  real const* values = a.values.data();
+  for (int j = 0; j < n; ++j) y[j] = 0;
+  for (int j = 0; j < n; ++j) {
+    // column j of the upper triangle: rows i < j, then the diagonal
+    real const xj = x[j];
+    real yj = 0;
+    int const last = colStart[j + 1] - 1;
+    for (int k = colStart[j]; k < last; ++k) {
+      int const i = rowIndex[k];
+      y[i] += values[k] * xj;
+      yj += values[k] * x[i];
+    }
+    if (last >= colStart[j]) {
+      if (rowIndex[last] == j)
+        yj += values[last] * xj;
+      else {  // no diagonal stored: the last entry is off-diagonal too
+        y[rowIndex[last]] += values[last] * xj;
+        yj += values[last] * x[rowIndex[last]];
+      }
+    }
+    y[j] += yj;
+  }
+}
+
+void ReusedFactorCg::Reserve(int size) {
+  residual_.setZero(size);
+  preconditioned_.setZero(size);
+  direction_.setZero(size);
+  product_.setZero(size);
+}
+
+ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, LinearSolver& factor,
+                                             Span<real const> b, Span<real> x, real relativeTolerance,
+                                             int maxIterations) {
+  int const n = a.size;
+  if (residual_.size() != n) Reserve(n);
+  Eigen::Map<VectorX> solution(x.data(), n);
+  Eigen::Map<VectorX const> rhs(b.data(), n);
+  Result result;
+  solution.setZero();
+  residual_ = rhs;
+  real const rhsNorm = rhs.norm();
+  if (rhsNorm == 0) {
+    result.status = Status::Converged;
+    return result;
+  }
+  Span<real const> const residual(residual_.data(), n);
+  Span<real> const preconditioned(preconditioned_.data(), n);
+  Span<real const> const direction(direction_.data(), n);
+  Span<real> const product(product_.data(), n);
+  auto precondition = [&] {
+    LinearSolveResult const solved = factor.Solve(residual, preconditioned);
+    if (!solved.Ok()) {
+      result.status = Status::PreconditionerFailed;
+      result.reason = solved.reason;
+    }
+    ++result.iterations;
+    return solved.Ok();
+  };
+
+  if (!precondition()) return result;
+  direction_ = preconditioned_;
+  real rz = residual_.dot(preconditioned_);
+  for (;;) {
+    MultiplySymmetric(a, direction, product);
+    real const curvature = direction_.dot(product_);
+    if (!(curvature > 0) || !(rz > 0)) {
+      result.status = Status::NonPositiveCurvature;
+      result.relativeResidual = residual_.norm() / rhsNorm;
+      return result;
+    }
+    real const alpha = rz / curvature;
+    solution += alpha * direction_;
+    residual_ -= alpha * product_;
+    result.relativeResidual = residual_.norm() / rhsNorm;
+    if (result.relativeResidual <= relativeTolerance) {
+      result.status = Status::Converged;
+      return result;
+    }
+    if (result.iterations >= maxIterations || !std::isfinite(result.relativeResidual)) {
+      result.status = Status::NotConverged;
+      return result;
+    }
+    if (!precondition()) return result;
+    real const rzNext = residual_.dot(preconditioned_);
+    direction_ = preconditioned_ + (rzNext / rz) * direction_;
+    rz = rzNext;
+  }
+}
+
+}  // namespace superdex::internal

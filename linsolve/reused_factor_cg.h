@@ -1,0 +1,58 @@
+// ReusedFactorCg: conjugate gradients on a symmetric positive definite A,
+// preconditioned by the factorization of an earlier matrix of the same
+// pattern (Newton's Hessian of an earlier iteration or step).
+//
+// Within a Newton stage the Hessian H_k changes a little from iteration to
+// iteration, and from step to step. With M = L Lᵀ the last factorization,
+// M⁻¹ H_k is close to the identity: CG converges in a few iterations, each a
+// sparse product H_k p and a pair of triangular solves with L, a small
+// fraction of one numeric factorization (docs/linear_solvers.md, "Reused
+// factorizations", has the measured ratio). The result is H_k's own Newton
+// step to the requested relative residual: the matrix is never approximated,
+// only the preconditioner is old.
+//
+// CG stops with
+//   Converged            ‖b − A x‖₂ <= rtol ‖b‖₂
+//   NotConverged         not within maxIterations (the caller refactorizes)
+//   NonPositiveCurvature pᵀ A p <= 0 for a search direction (A may be
+//                        indefinite: the caller refactorizes, and the
+//                        factorization says whether it is)
+//   PreconditionerFailed the factor's Solve failed (reason in `reason`)
+// Allocation: Reserve sizes the workspaces; Solve allocates nothing.
+#pragma once
+
+#include <string>
+
+#include <superdex/core/types.h>
+#include <superdex/linsolve/linear_solver.h>
+#include <superdex/linsolve/sparse_symmetric_matrix.h>
+
+namespace superdex::internal {
+
+/// y = A x for the symmetric A stored as its upper triangle (CSC, diagonal
+/// last in each column). x and y must not overlap.
+void MultiplySymmetric(SparseSymmetricMatrix const& a, Span<real const> x, Span<real> y);
+
+class ReusedFactorCg {
+ public:
+  enum class Status { Converged, NotConverged, NonPositiveCurvature, PreconditionerFailed };
+  struct Result {
+    Status status = Status::NotConverged;
+    int iterations = 0;          ///< preconditioner applications (= A products)
+    real relativeResidual = 0;   ///< ‖b − A x‖₂ / ‖b‖₂ at return
+    std::string reason;          ///< PreconditionerFailed: the backend's reason
+  };
+
+  void Reserve(int size);
+
+  /// Solves A x = b from x = 0, preconditioned by `factor`'s current
+  /// factorization (factor.Solve). A must have the factorized size. A zero
+  /// b gives x = 0, converged, in 0 iterations.
+  Result Solve(SparseSymmetricMatrix const& a, LinearSolver& factor, Span<real const> b, Span<real> x,
+               real relativeTolerance, int maxIterations);
+
+ private:
+  VectorX residual_, preconditioned_, direction_, product_;
+};
+
+}  // namespace superdex::internal

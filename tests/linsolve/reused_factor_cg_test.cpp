@@ -1,0 +1,88 @@
+// ReusedFactorCg: CG on a matrix preconditioned by the factorization of an
+// earlier matrix of the same pattern (NewtonParams::reuseFactorization), and
+// the symmetric product it runs on.
+#include "test_support.h"
+#include "test_systems.h"
+
+#include <superdex/linsolve/cholmod_solver.h>
+#include <superdex/linsolve/dense_solver.h>
+#include <superdex/linsolve/reused_factor_cg.h>
+
+using namespace superdex;
+using internal::ReusedFactorCg;
+using test::Laplacian2d;
+using test::View;
+
+namespace {
+
+/// `a` with every value scaled by 1 + amplitude·sin(k): a nearby matrix of
+/// the same pattern (SPD for a diagonally dominant `a` and amplitude < 1/3).
+SparseSymmetricMatrix Perturbed(SparseSymmetricMatrix a, real amplitude) {
+  for (std::size_t k = 0; k < a.values.size(); ++k) a.values[k] *= 1 + amplitude * std::sin(real(k));
+  return a;
+}
+
+}  // namespace
+
+TEST_CASE("MultiplySymmetric equals the product with the full matrix", "[linsolve][reuse]") {
+  SparseSymmetricMatrix const a = test::RandomBlockSpd(12, 3, 0.3, 5);
+  VectorX const x = test::TestRhs(a.size, 3);
+  VectorX y(a.size);
+  internal::MultiplySymmetric(a, View(x), View(y));
+  VectorX const expected = test::Multiply(a, x);
+  REQUIRE(expected.norm() > 0);
+  CHECK((y - expected).norm() <= 1e-14 * expected.norm());
+}
+
+TEST_CASE("CG with a reused factorization converges on a nearby matrix, to the requested residual",
+          "[linsolve][reuse]") {
+  SparseSymmetricMatrix const old = Laplacian2d(30, 30, 0.1);
+  std::unique_ptr<LinearSolver> factor = GENERATE(1, 2) == 1
+                                             ? std::unique_ptr<LinearSolver>(new internal::CholmodSolver())
+                                             : std::unique_ptr<LinearSolver>(new internal::DenseCholeskySolver());
+  CAPTURE(factor->GetDescription());
+  REQUIRE(factor->Analyze(old).Ok());
+  REQUIRE(factor->Factorize(old).Ok());
+  VectorX const b = test::TestRhs(old.size);
+  VectorX x(old.size);
+  ReusedFactorCg cg;
+  cg.Reserve(old.size);
+
+  SECTION("the factorized matrix itself: one iteration") {
+    ReusedFactorCg::Result const r = cg.Solve(old, *factor, View(b), View(x), 1e-10, 10);
+    CHECK(r.status == ReusedFactorCg::Status::Converged);
+    CHECK(r.iterations == 1);
+    CHECK(test::RelativeResidual(old, x, b) <= 1e-10);
+  }
+  SECTION("a matrix 20 % away: a few iterations, residual checked independently") {
+    SparseSymmetricMatrix const now = Perturbed(old, 0.2);
+    ReusedFactorCg::Result const r = cg.Solve(now, *factor, View(b), View(x), 1e-10, 50);
+    CAPTURE(r.iterations, r.relativeResidual);
+    REQUIRE(r.status == ReusedFactorCg::Status::Converged);
+    CHECK(r.iterations > 1);
+    CHECK(r.iterations < 30);
+    CHECK(test::RelativeResidual(now, x, b) <= 2e-10);
+  }
+  SECTION("an iteration cap below what it needs: NotConverged") {
+    SparseSymmetricMatrix const now = Perturbed(old, 0.3);
+    ReusedFactorCg::Result const r = cg.Solve(now, *factor, View(b), View(x), 1e-14, 2);
+    CHECK(r.status == ReusedFactorCg::Status::NotConverged);
+    CHECK(r.iterations == 2);
+    CHECK(r.relativeResidual > 1e-14);
+  }
+  SECTION("an indefinite matrix: negative curvature is reported") {
+    // the factor's own matrix with its sign flipped: pᵀ A p < 0 at once
+    SparseSymmetricMatrix negative = old;
+    for (real& v : negative.values) v = -v;
+    ReusedFactorCg::Result const r = cg.Solve(negative, *factor, View(b), View(x), 1e-10, 50);
+    CHECK(r.status == ReusedFactorCg::Status::NonPositiveCurvature);
+  }
+  SECTION("a zero right-hand side: x = 0 without iterations") {
+    VectorX const zero = VectorX::Zero(old.size);
+    x.setOnes();
+    ReusedFactorCg::Result const r = cg.Solve(old, *factor, View(zero), View(x), 1e-10, 10);
+    CHECK(r.status == ReusedFactorCg::Status::Converged);
+    CHECK(r.iterations == 0);
+    CHECK(x.isZero(0));
+  }
+}
