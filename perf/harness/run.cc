@@ -43,6 +43,8 @@ std::vector<SpecOption> const& SpecOptions() {
        "0 = off (default)",
        &RunSpec::nearRigid},
       {"--pcg-max-it", "N", "PCG iteration cap (default 10000)", &RunSpec::pcgMaxIterations},
+      {"--threads", "N", "assembly threads (SceneParams::numThreads), 0 = every CPU (default)",
+       &RunSpec::threads},
       {"--reference-out", "FILE", "write the final tracked positions", &RunSpec::referenceOut},
       {"--reference-in", "FILE", "error against the positions in FILE", &RunSpec::referenceIn},
       {"--reference-desc", "TEXT", "reference column for --reference-in", &RunSpec::referenceDesc},
@@ -124,6 +126,8 @@ bool ValidateSpec(RunSpec& spec, std::string& message) {
     message = "--newton-max-it must be >= 0 and --pcg-max-it >= 1";
   else if (!IsOneOf(spec.constraintHessian, {"gn", "gs", "gsd"}))
     message = "--constraint-hessian must be gn, gs or gsd, got '" + spec.constraintHessian + "'";
+  else if (spec.threads < 0)
+    message = "--threads must be >= 0 (0: every CPU)";
   else if (!(spec.nearRigid >= 0) || !std::isfinite(spec.nearRigid))
     message = "--near-rigid must be finite and >= 0 (0: off)";
   else if (!MakeMethod(spec, method))
@@ -549,6 +553,7 @@ Row ExecuteRun(RunSpec const& spec) {
                                                                       : ConstraintHessian::GeometricStiffness;
   params.newton.nearRigidBeta = spec.nearRigid;
   params.newton.reuseFactorization = method.reuseFactorization;
+  params.numThreads = spec.threads;
   params.linearSolver = method.solver;
   params.pcg = method.pcg;
   params.ordering = method.ordering;

@@ -37,6 +37,7 @@ struct RunSpec {
   std::string constraintHessian = "gs";  ///< gn | gs | gsd: NewtonParams::constraintHessian
   double nearRigid = 0;               ///< NewtonParams::nearRigidBeta: the near-rigid cap β, 0 = off
   int pcgMaxIterations = 10000;       ///< PCG iteration cap
+  int threads = 0;                    ///< SceneParams::numThreads: assembly threads, 0 = every CPU
   std::string referenceOut;           ///< write the final tracked positions here
   std::string referenceIn;            ///< compare the final tracked positions with this file
   std::string referenceDesc;          ///< the `reference` column when referenceIn is used
