@@ -20,8 +20,8 @@ constexpr int kMaxExpansions = 20;
 constexpr int kMaxCorrections = 4;
 /// Reused factorizations: a numeric factorization runs at about this many
 /// times the flop rate of a CG iteration with the factor (two triangular
-/// solves and a product, memory-bound); docs/linear_solvers.md ("Reused
-/// factorizations") measured it. Reuse is tried when a factorization is worth
+/// solves and a product, memory-bound): measured 8.6 on a 9,963-DoF beam and
+/// 15 on a 61,557-DoF one (docs/linear_solvers.md, "Reused factorizations"). Reuse is tried when a factorization is worth
 /// at least kMinReuseIterations CG iterations, and CG stops at
 /// kMaxReuseIterations whatever the factorization is worth.
 constexpr real kFactorToSolveRate = 10;
