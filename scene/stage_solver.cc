@@ -159,9 +159,7 @@ bool StageSolver::EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneSta
 
 LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats, bool resume) {
   auto const start = Clock::now();
-  Span<real const> const gradient(gradient_.data(), gradient_.size());
-  assembler_.PermuteToOrdered(gradient, Span<real>(orderedRhs_.data(), orderedRhs_.size()));
-  orderedRhs_ = -orderedRhs_;
+  OrderNewtonRhs();
   Span<real const> const rhs(orderedRhs_.data(), orderedRhs_.size());
   Span<real> const solution(orderedSolution_.data(), orderedSolution_.size());
   LinearSolveResult result = resume ? solver_->Resume(rhs, solution) : solver_->Solve(rhs, solution);
@@ -171,6 +169,12 @@ LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats, bool resume)
   stats.linearIterations += result.iterations;
   ++stats.linearSolves;
   return result;
+}
+
+void StageSolver::OrderNewtonRhs() {
+  assembler_.PermuteToOrdered(Span<real const>(gradient_.data(), gradient_.size()),
+                              Span<real>(orderedRhs_.data(), orderedRhs_.size()));
+  orderedRhs_ = -orderedRhs_;
 }
 
 int StageSolver::ReuseIterationCap() const {
@@ -191,8 +195,7 @@ bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, SceneStats& 
   if (cap < kMinReuseIterations) return false;
   auto const start = Clock::now();
   int const n = static_cast<int>(gradient_.size());
-  assembler_.PermuteToOrdered(Span<real const>(gradient_.data(), n), Span<real>(orderedRhs_.data(), n));
-  orderedRhs_ = -orderedRhs_;
+  OrderNewtonRhs();
   ReusedFactorCg::Result const result =
       reuseCg_.Solve(assembler_.GetMatrix(), *solver_, Span<real const>(orderedRhs_.data(), n),
                      Span<real>(orderedSolution_.data(), n), newton.factorReuseTolerance, cap);

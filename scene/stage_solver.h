@@ -66,6 +66,8 @@ class StageSolver {
   /// H δ = −∇E with the current factorization/set-up: permutes the gradient,
   /// solves, permutes δ back; adds the solve time and iterations to `stats`.
   LinearSolveResult SolveNewtonSystem(SceneStats& stats, bool resume = false);
+  /// orderedRhs_ = −∇E in the fill-reducing order (both solve paths).
+  void OrderNewtonRhs();
   /// NewtonParams::reuseFactorization: solves H δ = −∇E by CG preconditioned
   /// with the direct solver's last factorization (of an earlier matrix).
   /// True, with δ in delta_, when that CG converged; false when reuse does
