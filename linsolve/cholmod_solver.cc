@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <cholmod.h>
 
@@ -18,6 +19,7 @@ struct CholmodSolver::Impl {
   cholmod_dense* solution = nullptr;
   cholmod_dense* workY = nullptr;
   cholmod_dense* workE = nullptr;
+  std::vector<double> permuted;  ///< simplicial solves: P b, then the solution in L's order
   int size = 0;
   double factorNonzeros = -1;
   double factorFlops = -1;
@@ -126,6 +128,48 @@ int FirstNonFiniteDiagonal(cholmod_factor const& factor) {
   return -1;
 }
 
+// The first column of a simplicial LDLᵀ factor (in L's order) whose pivot
+// D(j) is not positive, or -1. CHOLMOD's LDLᵀ stops only at a zero pivot; a
+// negative one passes as success. Without pivoting D(j) is the ratio of the
+// leading principal minors of orders j + 1 and j, so the first D(j) <= 0 is
+// the column where an LLᵀ factorization fails. O(n).
+int FirstNonPositivePivot(cholmod_factor const& factor, std::size_t end) {
+  auto const* x = static_cast<double const*>(factor.x);
+  auto const* p = static_cast<int const*>(factor.p);
+  for (std::size_t j = 0; j < end; ++j) {
+    if (!(x[p[j]] > 0)) return static_cast<int>(j);
+  }
+  return -1;
+}
+
+// x = P' L⁻ᵀ D⁻¹ L⁻¹ P b for a simplicial LDLᵀ factor, through `y` (n
+// entries). cholmod_solve2 would transpose b into a 4-column block and
+// allocates on every call in this CHOLMOD version; this is the same
+// arithmetic on one column, in place. Each column of L holds D(j) first,
+// then the entries below the (unit) diagonal.
+void SolveSimplicialLdl(cholmod_factor const& factor, double const* b, double* x, double* y) {
+  auto const n = static_cast<std::ptrdiff_t>(factor.n);
+  auto const* perm = static_cast<int const*>(factor.Perm);
+  auto const* p = static_cast<int const*>(factor.p);
+  auto const* nz = static_cast<int const*>(factor.nz);
+  auto const* row = static_cast<int const*>(factor.i);
+  auto const* value = static_cast<double const*>(factor.x);
+  bool const permuted = perm != nullptr && factor.ordering != CHOLMOD_NATURAL;
+  for (std::ptrdiff_t k = 0; k < n; ++k) y[k] = b[permuted ? perm[k] : k];
+  for (std::ptrdiff_t j = 0; j < n; ++j) {  // L y = P b
+    double const yj = y[j];
+    if (yj == 0) continue;
+    for (int q = p[j] + 1, end = p[j] + nz[j]; q < end; ++q) y[row[q]] -= value[q] * yj;
+  }
+  for (std::ptrdiff_t j = 0; j < n; ++j) y[j] /= value[p[j]];  // D
+  for (std::ptrdiff_t j = n - 1; j >= 0; --j) {  // Lᵀ
+    double sum = y[j];
+    for (int q = p[j] + 1, end = p[j] + nz[j]; q < end; ++q) sum -= value[q] * y[row[q]];
+    y[j] = sum;
+  }
+  for (std::ptrdiff_t k = 0; k < n; ++k) x[permuted ? perm[k] : k] = y[k];
+}
+
 LinearSolveResult Failure(LinearSolveStatus status, std::string reason) {
   LinearSolveResult result;
   result.status = status;
@@ -135,18 +179,32 @@ LinearSolveResult Failure(LinearSolveStatus status, std::string reason) {
 
 }  // namespace
 
-CholmodSolver::CholmodSolver(CholmodOrdering ordering)
-    : ordering_(ordering), impl_(std::make_unique<Impl>()) {
+CholmodSolver::CholmodSolver(CholmodOrdering ordering, CholmodFactorKind kind)
+    : ordering_(ordering), kind_(kind), impl_(std::make_unique<Impl>()) {
   cholmod_common& common = impl_->common;
   cholmod_start(&common);
   // silence CHOLMOD's own printing (e.g. its "not positive definite" warning
   // on stdout); every outcome is returned as a typed result instead
   common.print = 0;
-  common.supernodal = CHOLMOD_SUPERNODAL;
+  switch (kind_) {
+    case CholmodFactorKind::Auto:
+      common.supernodal = CHOLMOD_AUTO;  // supernodal_switch stays CHOLMOD's 40
+      break;
+    case CholmodFactorKind::Supernodal:
+      common.supernodal = CHOLMOD_SUPERNODAL;
+      break;
+    case CholmodFactorKind::Simplicial:
+      common.supernodal = CHOLMOD_SIMPLICIAL;
+      break;
+  }
   common.postorder = 1;  // a postorder of the etree helps the supernodal factorization
   if (ordering_ == CholmodOrdering::Given) {
     common.nmethods = 1;
     common.method[0].ordering = CHOLMOD_NATURAL;
+  } else if (ordering_ == CholmodOrdering::GivenOrAmd) {
+    common.nmethods = 2;
+    common.method[0].ordering = CHOLMOD_NATURAL;
+    common.method[1].ordering = CHOLMOD_AMD;
   } else {
     common.nmethods = 0;  // CHOLMOD's default strategy
   }
@@ -170,6 +228,10 @@ std::string CholmodSolver::GetDescription() const {
   text += factor->is_ll ? " LL'" : " LDL'";
   text += ", ordering " + OrderingName(factor->ordering);
   return text;
+}
+
+bool CholmodSolver::IsSupernodal() const {
+  return impl_->factor != nullptr && impl_->factor->is_super;
 }
 
 double CholmodSolver::GetFactorNonzeros() const {
@@ -221,7 +283,10 @@ LinearSolveResult CholmodSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
   }
   impl.factorNonzeros = impl.common.lnz;
   impl.factorFlops = impl.common.fl;
-  impl.factorStoredEntries = static_cast<double>(impl.factor->xsize);
+  // a simplicial symbolic factor has no values yet: its numeric
+  // factorization stores exactly nnz(L) (final_pack)
+  impl.factorStoredEntries =
+      impl.factor->is_super ? static_cast<double>(impl.factor->xsize) : impl.common.lnz;
   return {};
 }
 
@@ -247,8 +312,15 @@ LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   cholmod_factor const& factor = *impl.factor;
   auto const* perm = static_cast<int const*>(factor.Perm);
   auto const toCallerColumn = [perm](int k) { return perm != nullptr ? perm[k] : k; };
-  if (status == CHOLMOD_NOT_POSDEF || factor.minor < factor.n) {
-    int const k = static_cast<int>(factor.minor);
+  // a simplicial LDLᵀ factor flags only zero pivots: find the first
+  // non-positive one before the column CHOLMOD stopped at
+  int k = factor.minor < factor.n ? static_cast<int>(factor.minor) : -1;
+  if (!factor.is_super && !factor.is_ll) {
+    int const pivot = FirstNonPositivePivot(factor, k >= 0 ? factor.minor : factor.n);
+    if (pivot >= 0) k = pivot;
+  }
+  if (status == CHOLMOD_NOT_POSDEF || k >= 0) {
+    if (k < 0) k = 0;  // CHOLMOD sets L->minor with NOT_POSDEF; never index past n
     LinearSolveResult result = Failure(LinearSolveStatus::NotPositiveDefinite,
                                        "CHOLMOD: A is not positive definite: the pivot of column " +
                                            std::to_string(toCallerColumn(k)) + " is <= 0 (column " +
@@ -271,6 +343,13 @@ LinearSolveResult CholmodSolver::DoSolve(Span<real const> b, Span<real> x) {
   Impl& impl = *impl_;
   auto const n = static_cast<std::size_t>(impl.size);
   if (n == 0) return {};
+
+  cholmod_factor const& factor = *impl.factor;
+  if (!factor.is_super && !factor.is_ll) {
+    impl.permuted.resize(n);  // sized once per analysis
+    SolveSimplicialLdl(factor, b.data(), x.data(), impl.permuted.data());
+    return {};
+  }
 
   // a dense header over the caller's b (no copy; CHOLMOD only reads it)
   cholmod_dense rhs{};

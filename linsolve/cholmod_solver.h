@@ -1,5 +1,7 @@
-// CholmodSolver: the LinearSolver backend on SuiteSparse CHOLMOD's
-// supernodal Cholesky factorization A = P' L L' P.
+// CholmodSolver: the LinearSolver backend on SuiteSparse CHOLMOD's sparse
+// Cholesky factorization: supernodal A = P' L L' P where the factor has dense
+// blocks for BLAS to work on, simplicial A = P' L D L' P where it has not
+// (chains, rods: CholmodFactorKind).
 //
 // Analyze runs cholmod_analyze on A's pattern (the caller's upper-triangle CSC
 // arrays, wrapped without copying). By default the ordering is CHOLMOD's
@@ -35,13 +37,29 @@ inline constexpr double kParallelBlasFlops = 2e8;
 /// The ordering cholmod_analyze uses.
 enum class CholmodOrdering {
   Given,           ///< natural: trust the caller's (already fill-reducing) column order
+  /// the caller's order or AMD's, whichever CHOLMOD's analysis finds the
+  /// better factor for (nested dissection suits meshes; on chains and rods
+  /// AMD finds the fill-free order that nested dissection misses)
+  GivenOrAmd,
   CholmodDefault,  ///< CHOLMOD's own choice (AMD, then METIS/NESDIS if AMD is poor)
+};
+
+/// The numeric factorization cholmod_analyze prepares.
+enum class CholmodFactorKind {
+  /// CHOLMOD's own rule: simplicial when flops / nnz(L) < 40 (few flops per
+  /// entry of L: chains, rods, thin shells, where supernodes are one or two
+  /// columns wide and BLAS calls cost more than their arithmetic),
+  /// supernodal otherwise (volumetric meshes)
+  Auto,
+  Supernodal,  ///< always supernodal LLᵀ (BLAS-3 on dense supernodes)
+  Simplicial,  ///< always simplicial LDLᵀ (column by column, no BLAS)
 };
 
 class CholmodSolver final : public LinearSolver {
  public:
   /// Starts a cholmod_common for this solver (cholmod_start).
-  explicit CholmodSolver(CholmodOrdering ordering = CholmodOrdering::Given);
+  explicit CholmodSolver(CholmodOrdering ordering = CholmodOrdering::Given,
+                         CholmodFactorKind kind = CholmodFactorKind::Auto);
   /// Frees the factor and workspaces and ends the cholmod_common (cholmod_finish).
   ~CholmodSolver() override;
 
@@ -60,8 +78,11 @@ class CholmodSolver final : public LinearSolver {
   double GetFactorFlops() const override;
 
   CholmodOrdering GetOrdering() const { return ordering_; }
-  /// Entries stored for L (L->xsize: nnz(L) plus amalgamation zeros); -1
-  /// before Analyze.
+  CholmodFactorKind GetFactorKind() const { return kind_; }
+  /// Whether the current analysis is supernodal (false before Analyze).
+  bool IsSupernodal() const;
+  /// Entries stored for L (supernodal: L->xsize, nnz(L) plus amalgamation
+  /// zeros; simplicial: nnz(L)); -1 before Analyze.
   double GetFactorStoredEntries() const;
   /// The permutation CHOLMOD factors in: entry k is the caller's column that
   /// is the k-th column of L (L->Perm). Empty before Analyze. For tests and
@@ -77,6 +98,7 @@ class CholmodSolver final : public LinearSolver {
   struct Impl;  // the cholmod_common, factor and workspaces (cholmod_solver.cc)
 
   CholmodOrdering ordering_;
+  CholmodFactorKind kind_;
   std::unique_ptr<Impl> impl_;
 };
 

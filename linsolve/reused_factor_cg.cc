@@ -41,16 +41,15 @@ void ReusedFactorCg::Reserve(int size) {
 
 ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, LinearSolver& factor,
                                              Span<real const> b, Span<real> x, real relativeTolerance,
-                                             int maxIterations) {
+                                             int maxIterations, bool resume) {
   int const n = a.size;
   if (residual_.size() != n) Reserve(n);
   Eigen::Map<VectorX> solution(x.data(), n);
   Eigen::Map<VectorX const> rhs(b.data(), n);
   Result result;
-  solution.setZero();
-  residual_ = rhs;
   real const rhsNorm = rhs.norm();
   if (rhsNorm == 0) {
+    solution.setZero();
     result.status = Status::Converged;
     return result;
   }
@@ -58,6 +57,18 @@ ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, Lin
   Span<real> const preconditioned(preconditioned_.data(), n);
   Span<real const> const direction(direction_.data(), n);
   Span<real> const product(product_.data(), n);
+  if (resume) {
+    MultiplySymmetric(a, Span<real const>(x.data(), n), product);
+    residual_ = rhs - product_;
+    result.relativeResidual = residual_.norm() / rhsNorm;
+    if (result.relativeResidual <= relativeTolerance) {
+      result.status = Status::Converged;
+      return result;
+    }
+  } else {
+    solution.setZero();
+    residual_ = rhs;
+  }
   auto precondition = [&] {
     LinearSolveResult const solved = factor.Solve(residual, preconditioned);
     if (!solved.Ok()) {

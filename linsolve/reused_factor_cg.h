@@ -45,11 +45,13 @@ class ReusedFactorCg {
 
   void Reserve(int size);
 
-  /// Solves A x = b from x = 0, preconditioned by `factor`'s current
-  /// factorization (factor.Solve). A must have the factorized size. A zero
-  /// b gives x = 0, converged, in 0 iterations.
+  /// Solves A x = b, preconditioned by `factor`'s current factorization
+  /// (factor.Solve), from x = 0, or with `resume` from the x passed in (a
+  /// looser solve continued to a tighter tolerance; the residual is
+  /// recomputed, one more product with A). A must have the factorized size.
+  /// A zero b gives x = 0, converged, in 0 iterations.
   Result Solve(SparseSymmetricMatrix const& a, LinearSolver& factor, Span<real const> b, Span<real> x,
-               real relativeTolerance, int maxIterations);
+               real relativeTolerance, int maxIterations, bool resume = false);
 
  private:
   VectorX residual_, preconditioned_, direction_, product_;

@@ -70,6 +70,14 @@ struct NewtonParams {
   /// SceneStats::factorizations and reusedFactorSolves count both kinds.
   bool reuseFactorization = true;
   real factorReuseTolerance = 1e-6;  ///< in (0, 1)
+  /// With reuseFactorization: each reused-factor CG stops at the inexact-
+  /// Newton forcing term of its iteration (Eisenstat–Walker choice 2, in
+  /// [factorReuseTolerance, 0.1]: loose while Newton is far from the
+  /// minimum, tight near it) instead of factorReuseTolerance. A step that
+  /// meets the Newton tolerance from a looser solve is continued to
+  /// factorReuseTolerance before Newton may stop, so the converged state is
+  /// the same. Off: every reused-factor solve goes to factorReuseTolerance.
+  bool reuseForcingTerms = true;
 };
 
 /// Automatic sub-stepping: a policy for steps that fail, off by default.

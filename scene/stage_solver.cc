@@ -29,6 +29,11 @@ constexpr int kMinReuseIterations = 3;
 constexpr int kMaxReuseIterations = 50;
 /// Reused-factor solves that fail in a row before a stage stops trying
 constexpr int kMaxReuseFailures = 2;
+/// NewtonParams::reuseForcingTerms: the loosest relative residual a
+/// reused-factor CG stops at (the first iteration of a stage). Looser steps
+/// cost Newton iterations, each an assembly: with η = 0.1 one CG iteration
+/// usually meets it (M⁻¹H ≈ I)
+constexpr real kMaxReuseForcingTerm = 0.1;
 /// Constraints per chunk of the parallel assembly (~1 µs each)
 constexpr int kConstraintGrain = 32;
 using Clock = std::chrono::steady_clock;
@@ -124,6 +129,8 @@ bool StageSolver::EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneSta
   if (!solver_ || solver_->GetType() != type) {
     if (type == LinearSolverType::Cholmod && ordering_ == OrderingMethod::SolverDefault)
       solver_ = std::make_unique<CholmodSolver>(CholmodOrdering::CholmodDefault);
+    else if (type == LinearSolverType::Cholmod && ordering_ == OrderingMethod::Metis)
+      solver_ = std::make_unique<CholmodSolver>(CholmodOrdering::GivenOrAmd);
     else
       solver_ = CreateLinearSolver(type, pcg_, error);
     if (!solver_) return false;
@@ -187,7 +194,8 @@ int StageSolver::ReuseIterationCap() const {
   return static_cast<int>(std::min<double>(kMaxReuseIterations, factorFlops / (kFactorToSolveRate * iterationFlops)));
 }
 
-bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, SceneStats& stats) {
+bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, real tolerance, bool resume,
+                                        SceneStats& stats) {
   if (!newton.reuseFactorization || solver_->IsIterative() || !solver_->IsFactorized() ||
       reuseFailuresInRow_ >= kMaxReuseFailures)
     return false;
@@ -198,7 +206,7 @@ bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, SceneStats& 
   OrderNewtonRhs();
   ReusedFactorCg::Result const result =
       reuseCg_.Solve(assembler_.GetMatrix(), *solver_, Span<real const>(orderedRhs_.data(), n),
-                     Span<real>(orderedSolution_.data(), n), newton.factorReuseTolerance, cap);
+                     Span<real>(orderedSolution_.data(), n), tolerance, cap, resume);
   stats.solveSeconds += SecondsSince(start);
   stats.linearIterations += result.iterations;
   ++stats.linearSolves;
@@ -222,18 +230,18 @@ bool StageSolver::TakeTruncated(LinearSolveResult const& result, SceneStats& sta
   return take;
 }
 
-real StageSolver::ForcingTerm(int iteration, real gradientNorm) {
+real StageSolver::ForcingTerm(int iteration, real gradientNorm, real tightest, real loosest) {
   // Eisenstat & Walker (1996), choice 2 with γ = 0.9, α = 2: η = γ (‖g‖/‖g₋₁‖)²,
   // safeguarded by γ η₋₁² when that exceeds 0.1; the first iteration of a
   // stage starts at the loosest tolerance
-  real eta = pcg_.adaptiveMaxTolerance;
+  real eta = loosest;
   if (iteration > 1 && previousGradientNorm_ > 0) {
     real const ratio = gradientNorm / previousGradientNorm_;
     eta = 0.9 * ratio * ratio;
     real const safeguard = 0.9 * previousForcingTerm_ * previousForcingTerm_;
     if (safeguard > 0.1) eta = std::max(eta, safeguard);
   }
-  eta = std::clamp(eta, pcg_.relativeTolerance, pcg_.adaptiveMaxTolerance);
+  eta = std::clamp(eta, tightest, loosest);
   previousGradientNorm_ = gradientNorm;
   previousForcingTerm_ = eta;
   return eta;
@@ -345,6 +353,10 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     // so near convergence they are usable and Newton is quadratic again).
     LinearSolveResult result;
     real forcingTerm = pcg_.relativeTolerance;
+    // reused-factor CG: its tolerance this iteration, and whether δ came
+    // from it at a tolerance looser than factorReuseTolerance
+    real reuseTolerance = newton.factorReuseTolerance;
+    bool reusedLoose = false;
     bool project = newton.hessianProjection == HessianProjection::Always;
     bool forcingSet = false;
     for (;;) {
@@ -368,16 +380,25 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
         return false;
       }
 
-      if (SolveWithReusedFactor(newton, stats)) {
+      // once per iteration: a projected retry has the same gradient
+      if (!forcingSet && newton.reuseForcingTerms && !solver_->IsIterative()) {
+        reuseTolerance = ForcingTerm(iteration, gradient_.norm(), newton.factorReuseTolerance,
+                                     std::max(newton.factorReuseTolerance, kMaxReuseForcingTerm));
+        forcingSet = true;
+      }
+      if (SolveWithReusedFactor(newton, reuseTolerance, /*resume=*/false, stats)) {
         result = LinearSolveResult{};
+        reusedLoose = reuseTolerance > newton.factorReuseTolerance;
       } else {
+        reusedLoose = false;
         start = Clock::now();
         result = solver_->Factorize(assembler_.GetMatrix());
         stats.factorizationSeconds += SecondsSince(start);
         ++stats.factorizations;
         // once per iteration: a projected retry has the same gradient
         if (inexact && !forcingSet) {
-          forcingTerm = ForcingTerm(iteration, gradient_.norm());
+          forcingTerm = ForcingTerm(iteration, gradient_.norm(), pcg_.relativeTolerance,
+                                    pcg_.adaptiveMaxTolerance);
           solver_->SetRelativeTolerance(forcingTerm);
           forcingSet = true;
         }
@@ -449,6 +470,17 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     judge();
     // resumed again while it stays truncated and each resumption at least
     // halves the residual (restarted CG still converges, more slowly)
+    // A reused-factor step from a forcing term that looks converged is
+    // continued to factorReuseTolerance the same way; when that CG cannot
+    // finish, the loose step is taken but does not end Newton (the next
+    // iteration solves again, refactorizing after kMaxReuseFailures).
+    if (reusedLoose && (stepConverged || stalled)) {
+      if (SolveWithReusedFactor(newton, newton.factorReuseTolerance, /*resume=*/true, stats)) {
+        judge();
+      } else {
+        stepConverged = stalled = false;
+      }
+    }
     bool loose = truncated || (inexact && forcingTerm > pcg_.relativeTolerance);
     while (loose && (stepConverged || stalled)) {
       real const previousResidual = result.relativeResidual;

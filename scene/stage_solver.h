@@ -72,7 +72,10 @@ class StageSolver {
   /// with the direct solver's last factorization (of an earlier matrix).
   /// True, with δ in delta_, when that CG converged; false when reuse does
   /// not apply or did not pay (the caller factorizes).
-  bool SolveWithReusedFactor(NewtonParams const& newton, SceneStats& stats);
+  /// To the relative residual `tolerance`; with `resume`, continuing the
+  /// last such solve (same right-hand side) from its solution.
+  bool SolveWithReusedFactor(NewtonParams const& newton, real tolerance, bool resume,
+                             SceneStats& stats);
   /// The most CG iterations a reused factorization may take: the iterations
   /// that cost one numeric factorization, by the factor's flop counts.
   int ReuseIterationCap() const;
@@ -83,9 +86,9 @@ class StageSolver {
   /// delta_ descends.
   bool TakeTruncated(LinearSolveResult const& result, SceneStats& stats) const;
   /// The inexact-Newton forcing term for this iteration (Eisenstat–Walker
-  /// choice 2, safeguarded), from the gradient norms of this and the last
-  /// iteration; `iteration` is 1-based.
-  real ForcingTerm(int iteration, real gradientNorm);
+  /// choice 2, safeguarded) in [tightest, loosest], from the gradient norms
+  /// of this and the last iteration; `iteration` is 1-based.
+  real ForcingTerm(int iteration, real gradientNorm, real tightest, real loosest);
   /// maxⱼ ℓⱼ |δⱼ| / h: the step as a velocity of material points (ℓⱼ the
   /// DoF length scales of the actors).
   real ScaledStepNorm(real h) const;

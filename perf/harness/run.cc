@@ -206,14 +206,17 @@ struct MethodDef {
   bool reuseAmgInterpolation = false;
   bool adaptiveTolerance = false;
   bool reuseFactorization = true;  ///< direct solvers: NewtonParams::reuseFactorization
+  bool reuseForcingTerms = true;   ///< NewtonParams::reuseForcingTerms
 };
 
 using Pc = PcgPreconditioner;
 constexpr auto kPcg = LinearSolverType::PetscPcg;
 
-std::array<MethodDef, 13> const kMethods{{
+std::array<MethodDef, 14> const kMethods{{
     {"cholmod", LinearSolverType::Cholmod},
     {"cholmod-refactor", LinearSolverType::Cholmod, Pc::None, OrderingMethod::Metis, false, false, false},
+    {"cholmod-reuse-fixed", LinearSolverType::Cholmod, Pc::None, OrderingMethod::Metis, false, false, true,
+     false},
     {"cholmod-amd", LinearSolverType::Cholmod, Pc::None, OrderingMethod::SolverDefault},
     {"dense", LinearSolverType::Dense},
     {"pcg-none", kPcg, Pc::None},
@@ -258,6 +261,7 @@ bool MakeMethod(RunSpec const& spec, Method& method) {
   method.pcg.reuseAmgInterpolation = def->reuseAmgInterpolation;
   method.pcg.adaptiveTolerance = def->adaptiveTolerance;
   method.reuseFactorization = def->reuseFactorization;
+  method.reuseForcingTerms = def->reuseForcingTerms;
   // the Eisenstat–Walker cap must stay >= rtol
   method.pcg.adaptiveMaxTolerance = std::max(method.pcg.adaptiveMaxTolerance, spec.rtol);
   return true;
@@ -553,6 +557,7 @@ Row ExecuteRun(RunSpec const& spec) {
                                                                       : ConstraintHessian::GeometricStiffness;
   params.newton.nearRigidBeta = spec.nearRigid;
   params.newton.reuseFactorization = method.reuseFactorization;
+  params.newton.reuseForcingTerms = method.reuseForcingTerms;
   params.numThreads = spec.threads;
   params.linearSolver = method.solver;
   params.pcg = method.pcg;

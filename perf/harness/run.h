@@ -93,6 +93,7 @@ struct Method {
   OrderingMethod ordering = OrderingMethod::Metis;
   bool isPcg = false;
   bool reuseFactorization = true;  ///< NewtonParams::reuseFactorization (direct solvers)
+  bool reuseForcingTerms = true;   ///< NewtonParams::reuseForcingTerms (direct solvers)
 };
 
 /// The method labels the harness knows, in display order.

@@ -41,7 +41,8 @@ TEST_CASE("CHOLMOD reports nnz(L), flops and what ran", "[linsolve][cholmod]") {
     std::string const description = solver.GetDescription();
     CAPTURE(description);
     REQUIRE(description.find("CHOLMOD 3.") == 0);
-    REQUIRE(description.find("supernodal") != std::string::npos);
+    REQUIRE(description.find(solver.IsSupernodal() ? "supernodal LL'" : "simplicial LDL'") !=
+            std::string::npos);
     REQUIRE(description.find("natural") != std::string::npos);
   }
   SECTION("a new pattern replaces the old analysis") {
@@ -81,10 +82,43 @@ TEST_CASE("CHOLMOD factors in the given order unless told otherwise", "[linsolve
   }
 }
 
+TEST_CASE("CHOLMOD picks simplicial LDLᵀ for chains and supernodal LLᵀ for volumes",
+          "[linsolve][cholmod]") {
+  // flops / nnz(L): ~3 for a tridiagonal matrix, hundreds for a 3-D grid
+  // (CHOLMOD's switch is 40); both kinds solve both systems
+  SparseSymmetricMatrix const chain = Laplacian2d(400, 1, 0.1);
+  SparseSymmetricMatrix const volume = test::Laplacian3d(12, 0.1);
+  for (SparseSymmetricMatrix const* a : {&chain, &volume}) {
+    for (CholmodFactorKind kind :
+         {CholmodFactorKind::Auto, CholmodFactorKind::Supernodal, CholmodFactorKind::Simplicial}) {
+      CholmodSolver solver(CholmodOrdering::CholmodDefault, kind);
+      REQUIRE(solver.GetFactorKind() == kind);
+      REQUIRE_FALSE(solver.IsSupernodal());
+      REQUIRE(solver.Analyze(*a).Ok());
+      bool const expectSupernodal = kind == CholmodFactorKind::Supernodal ||
+                                    (kind == CholmodFactorKind::Auto && a == &volume);
+      CAPTURE(a->size, static_cast<int>(kind), solver.GetDescription());
+      REQUIRE(solver.IsSupernodal() == expectSupernodal);
+      REQUIRE(solver.Factorize(*a).Ok());
+      REQUIRE(solver.GetDescription().find(expectSupernodal ? "supernodal LL'" : "simplicial LDL'") !=
+              std::string::npos);
+      VectorX const b = test::TestRhs(a->size);
+      VectorX x(a->size);
+      REQUIRE(solver.Solve(test::View(b), test::View(x)).Ok());
+      REQUIRE(test::RelativeResidual(*a, x, b) <= 1e-10);
+    }
+  }
+}
+
 TEST_CASE("CHOLMOD's failing column is mapped back through its postorder",
           "[linsolve][cholmod][indefinite]") {
+  // simplicial LDLᵀ does not stop at a negative pivot: the backend finds the
+  // first one itself, and must name the same column as LLᵀ
+  CholmodFactorKind const kind =
+      GENERATE(CholmodFactorKind::Auto, CholmodFactorKind::Supernodal, CholmodFactorKind::Simplicial);
+  CAPTURE(static_cast<int>(kind));
   SparseSymmetricMatrix const a = test::InterleavedChains(40);
-  CholmodSolver solver;
+  CholmodSolver solver(CholmodOrdering::Given, kind);
   REQUIRE(solver.Analyze(a).Ok());
 
   // the postorder of two interleaved chains is not the identity, so a failing

@@ -63,6 +63,28 @@ TEST_CASE("CG with a reused factorization converges on a nearby matrix, to the r
     CHECK(r.iterations < 30);
     CHECK(test::RelativeResidual(now, x, b) <= 2e-10);
   }
+  SECTION("a loose solve resumed to a tight tolerance: the tight answer, from where it stopped") {
+    SparseSymmetricMatrix const now = Perturbed(old, 0.2);
+    ReusedFactorCg::Result const loose = cg.Solve(now, *factor, View(b), View(x), 1e-2, 50);
+    REQUIRE(loose.status == ReusedFactorCg::Status::Converged);
+    CHECK(test::RelativeResidual(now, x, b) > 1e-10);
+    ReusedFactorCg::Result const tight =
+        cg.Solve(now, *factor, View(b), View(x), 1e-10, 50, /*resume=*/true);
+    REQUIRE(tight.status == ReusedFactorCg::Status::Converged);
+    CHECK(test::RelativeResidual(now, x, b) <= 2e-10);
+    // a cold tight solve needs more iterations than the resumption
+    VectorX cold(old.size);
+    ReusedFactorCg::Result const fromZero = cg.Solve(now, *factor, View(b), View(cold), 1e-10, 50);
+    CAPTURE(loose.iterations, tight.iterations, fromZero.iterations);
+    CHECK(tight.iterations < fromZero.iterations);
+    // resuming a solve that already meets the tolerance changes nothing
+    VectorX const before = x;
+    ReusedFactorCg::Result const again =
+        cg.Solve(now, *factor, View(b), View(x), 1e-8, 50, /*resume=*/true);
+    CHECK(again.status == ReusedFactorCg::Status::Converged);
+    CHECK(again.iterations == 0);
+    CHECK(x == before);
+  }
   SECTION("an iteration cap below what it needs: NotConverged") {
     SparseSymmetricMatrix const now = Perturbed(old, 0.3);
     ReusedFactorCg::Result const r = cg.Solve(now, *factor, View(b), View(x), 1e-14, 2);

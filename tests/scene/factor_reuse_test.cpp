@@ -19,9 +19,10 @@ struct Beam {
 /// sagging under gravity: 24×6×6 cells (3,675 DoFs) for CHOLMOD, where a
 /// factorization is worth more than 3 CG iterations (by the flop model), and
 /// 12×3×3 (624 DoFs) for the dense solver (n³/3 flops: reuse pays sooner).
-Beam MakeBeam(bool reuse, LinearSolverType solver) {
+Beam MakeBeam(bool reuse, LinearSolverType solver, bool forcingTerms = true) {
   SceneParams params;
   params.newton.reuseFactorization = reuse;
+  params.newton.reuseForcingTerms = forcingTerms;
   params.linearSolver = solver;
   Beam b;
   b.scene = MakeScene(params);
@@ -48,14 +49,19 @@ TEST_CASE("reused factorizations reach full Newton's states with fewer factoriza
           "[scene][newton][reuse]") {
   LinearSolverType const solver = GENERATE(LinearSolverType::Cholmod, LinearSolverType::Dense);
   CAPTURE(ToString(solver));
-  Beam full = MakeBeam(false, solver), reused = MakeBeam(true, solver);
+  // reused: each reused-factor CG to its forcing term (the default);
+  // fixed: each to factorReuseTolerance
+  Beam full = MakeBeam(false, solver), reused = MakeBeam(true, solver),
+       fixed = MakeBeam(true, solver, /*forcingTerms=*/false);
   real const dt = 1.0 / 60;
   int const steps = 10;
   std::int64_t newton = 0, factorizations = 0, reusedSolves = 0, fullFactorizations = 0, fullNewton = 0;
-  real largest = 0;
+  std::int64_t cgIterations = 0, fixedCgIterations = 0, fixedFactorizations = 0;
+  real largest = 0, largestFixed = 0;
   for (int s = 0; s < steps; ++s) {
     StepOk(*full.scene, dt, 1);
     StepOk(*reused.scene, dt, 1);
+    StepOk(*fixed.scene, dt, 1);
     SceneStats const& f = full.scene->GetStats();
     SceneStats const& r = reused.scene->GetStats();
     fullNewton += f.newtonIterations;
@@ -63,10 +69,15 @@ TEST_CASE("reused factorizations reach full Newton's states with fewer factoriza
     newton += r.newtonIterations;
     factorizations += r.factorizations;
     reusedSolves += r.reusedFactorSolves;
+    cgIterations += r.linearIterations;
+    fixedCgIterations += fixed.scene->GetStats().linearIterations;
+    fixedFactorizations += fixed.scene->GetStats().factorizations;
     CHECK(f.reusedFactorSolves == 0);
     largest = std::max(largest, MaxDistance(*full.actor, *reused.actor));
+    largestFixed = std::max(largestFixed, MaxDistance(*full.actor, *fixed.actor));
   }
-  CAPTURE(fullNewton, fullFactorizations, newton, factorizations, reusedSolves, largest);
+  CAPTURE(fullNewton, fullFactorizations, newton, factorizations, reusedSolves, largest,
+          cgIterations, fixedCgIterations, fixedFactorizations, largestFixed);
   // without reuse: one factorization per Newton iteration
   CHECK(fullFactorizations == fullNewton);
   // with it: every Newton iteration either reused a factorization or made one
@@ -78,6 +89,10 @@ TEST_CASE("reused factorizations reach full Newton's states with fewer factoriza
   // the minimizer on either path; 10 steps of such differences, carried by
   // stable dynamics, stay below 10 · 1e-6 · dt
   CHECK(largest <= steps * 1e-6 * dt);
+  CHECK(largestFixed <= steps * 1e-6 * dt);
+  CHECK(fixedFactorizations < fullFactorizations / 2);
+  // loose solves far from the minimum: fewer CG iterations in all
+  CHECK(cgIterations < fixedCgIterations);
   // the sag is real (the comparison is not of two resting beams)
   CHECK((reused.actor->GetNodePosition(reused.actor->GetNumNodes() - 1) -
          reused.actor->GetNodeReferencePosition(reused.actor->GetNumNodes() - 1))

@@ -40,7 +40,12 @@ void DefineSceneParams(py::module_& m) {
              "refactorizes only when that does not pay; the converged state is full Newton's. "
              "Default True")
       .Field("factor_reuse_tolerance", &N::factorReuseTolerance,
-             "relative residual of those CG solves, in (0, 1), default 1e-6");
+             "relative residual of those CG solves, in (0, 1), default 1e-6")
+      .Field("reuse_forcing_terms", &N::reuseForcingTerms,
+             "with reuse_factorization: each reused-factor CG stops at its iteration's "
+             "inexact-Newton forcing term (Eisenstat-Walker, in [factor_reuse_tolerance, 0.1]); "
+             "a step that looks converged is continued to factor_reuse_tolerance before Newton "
+             "stops, so the converged state is the same. Default True");
 
   ParamsClass<SubstepParams>(
       m, "SubstepParams",
