@@ -425,10 +425,14 @@ def test_threads_and_reused_factorizations():
 
     # reused factorizations: fewer factorizations, full Newton's state within its tolerance
     stats = {}
-    for reuse in (False, True):
-        # dense: at 624 DoFs its n³/3 factorization is worth ~10 CG iterations
+    for reuse in (False, True, "fixed"):
+        # dense: at 624 DoFs its n³/3 factorization is worth ~10 CG iterations;
+        # "fixed": every reused-factor CG to factor_reuse_tolerance
+        newton_params = mochi.NewtonParams(reuse_factorization=bool(reuse),
+                                           reuse_forcing_terms=reuse is True)
+        assert newton_params.reuse_forcing_terms == (reuse is True)
         scene, beam = _sagging_beam(linear_solver=mochi.LinearSolverType.Dense,
-                                    newton=mochi.NewtonParams(reuse_factorization=reuse))
+                                    newton=newton_params)
         factorizations = reused = newton = 0
         for _ in range(5):
             scene.step(1 / 60)
@@ -441,5 +445,7 @@ def test_threads_and_reused_factorizations():
     assert stats[True][1] > 0 and stats[True][0] < stats[False][0]
     # 5 steps of the Newton tolerance (1e-6 m/s) times dt
     assert np.abs(stats[True][3] - stats[False][3]).max() <= 5 * 1e-6 / 60
+    assert stats["fixed"][1] > 0
+    assert np.abs(stats["fixed"][3] - stats[False][3]).max() <= 5 * 1e-6 / 60
     with pytest.raises(mochi.Error, match="factorReuseTolerance"):
         mochi.Scene.create(newton=mochi.NewtonParams(factor_reuse_tolerance=0))
