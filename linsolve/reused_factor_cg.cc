@@ -41,7 +41,8 @@ void ReusedFactorCg::Reserve(int size) {
 
 ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, LinearSolver& factor,
                                              Span<real const> b, Span<real> x, real relativeTolerance,
-                                             int maxIterations, bool resume) {
+                                             int maxIterations, bool resume,
+                                             StepTolerance const* stepTolerance) {
   int const n = a.size;
   if (residual_.size() != n) Reserve(n);
   Eigen::Map<VectorX> solution(x.data(), n);
@@ -79,7 +80,20 @@ ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, Lin
     return solved.Ok();
   };
 
+  // the next correction M⁻¹ r estimates x's error when M ≈ A
+  auto const errorSmall = [&] {
+    if (stepTolerance == nullptr) return false;
+    real const* scale = stepTolerance->scales.data();
+    for (int i = 0; i < n; ++i)
+      if (scale[i] * std::abs(preconditioned_[i]) > stepTolerance->tolerance) return false;
+    return true;
+  };
+
   if (!precondition()) return result;
+  if (resume && errorSmall()) {
+    result.status = Status::Converged;
+    return result;
+  }
   direction_ = preconditioned_;
   real rz = residual_.dot(preconditioned_);
   for (;;) {
@@ -103,6 +117,10 @@ ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, Lin
       return result;
     }
     if (!precondition()) return result;
+    if (errorSmall()) {
+      result.status = Status::Converged;
+      return result;
+    }
     real const rzNext = residual_.dot(preconditioned_);
     direction_ = preconditioned_ + (rzNext / rz) * direction_;
     rz = rzNext;

@@ -12,7 +12,10 @@
 // only the preconditioner is old.
 //
 // CG stops with
-//   Converged            ‖b − A x‖₂ <= rtol ‖b‖₂
+//   Converged            ‖b − A x‖₂ <= rtol ‖b‖₂, or, given a step
+//                        tolerance, maxᵢ sᵢ |zᵢ| <= τ for z = M⁻¹ (b − A x):
+//                        the error of x (A⁻¹ r ≈ M⁻¹ r, since M ≈ A) is
+//                        below τ in the caller's scaled max-norm
 //   NotConverged         not within maxIterations (the caller refactorizes)
 //   NonPositiveCurvature pᵀ A p <= 0 for a search direction (A may be
 //                        indefinite: the caller refactorizes, and the
@@ -43,6 +46,12 @@ class ReusedFactorCg {
     std::string reason;          ///< PreconditionerFailed: the backend's reason
   };
 
+  /// Converged as well when maxᵢ scales[i] |(M⁻¹ r)ᵢ| <= tolerance.
+  struct StepTolerance {
+    Span<real const> scales;
+    real tolerance = 0;
+  };
+
   void Reserve(int size);
 
   /// Solves A x = b, preconditioned by `factor`'s current factorization
@@ -51,7 +60,8 @@ class ReusedFactorCg {
   /// recomputed, one more product with A). A must have the factorized size.
   /// A zero b gives x = 0, converged, in 0 iterations.
   Result Solve(SparseSymmetricMatrix const& a, LinearSolver& factor, Span<real const> b, Span<real> x,
-               real relativeTolerance, int maxIterations, bool resume = false);
+               real relativeTolerance, int maxIterations, bool resume = false,
+               StepTolerance const* stepTolerance = nullptr);
 
  private:
   VectorX residual_, preconditioned_, direction_, product_;

@@ -73,10 +73,12 @@ struct NewtonParams {
   /// With reuseFactorization: each reused-factor CG stops at the inexact-
   /// Newton forcing term of its iteration (Eisenstat–Walker choice 2, in
   /// [factorReuseTolerance, 0.1]: loose while Newton is far from the
-  /// minimum, tight near it) instead of factorReuseTolerance. A step that
-  /// meets the Newton tolerance from a looser solve is continued to
-  /// factorReuseTolerance before Newton may stop, so the converged state is
-  /// the same. Off: every reused-factor solve goes to factorReuseTolerance.
+  /// minimum, tight near it) instead of factorReuseTolerance, or once its
+  /// estimated error, scaled like the Newton step, is a tenth of
+  /// velocityTolerance. A step that meets the Newton tolerance from a looser
+  /// solve is continued to one of those before Newton may stop, so the
+  /// converged state stays within the tolerance of full Newton's. Off: every
+  /// reused-factor solve goes to factorReuseTolerance.
   bool reuseForcingTerms = true;
 };
 

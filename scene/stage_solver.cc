@@ -34,6 +34,9 @@ constexpr int kMaxReuseFailures = 2;
 /// cost Newton iterations, each an assembly: with η = 0.1 one CG iteration
 /// usually meets it (M⁻¹H ≈ I)
 constexpr real kMaxReuseForcingTerm = 0.1;
+/// ... and its absolute accuracy: the error of the step, scaled as a
+/// velocity like the Newton tolerance, this fraction of that tolerance
+constexpr real kReuseStepAccuracy = 0.1;
 /// Constraints per chunk of the parallel assembly (~1 µs each)
 constexpr int kConstraintGrain = 32;
 using Clock = std::chrono::steady_clock;
@@ -82,6 +85,7 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   gradient_.setZero(numDofs);
   delta_.setZero(numDofs);
   dofLengthScales_.setOnes(numDofs);
+  orderedLengthScales_.setOnes(numDofs);
   dofInverseMasses_.setZero(numDofs);
   orderedRhs_.setZero(numDofs);
   orderedSolution_.setZero(numDofs);
@@ -206,7 +210,8 @@ bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, real toleran
   OrderNewtonRhs();
   ReusedFactorCg::Result const result =
       reuseCg_.Solve(assembler_.GetMatrix(), *solver_, Span<real const>(orderedRhs_.data(), n),
-                     Span<real>(orderedSolution_.data(), n), tolerance, cap, resume);
+                     Span<real>(orderedSolution_.data(), n), tolerance, cap, resume,
+                     newton.reuseForcingTerms ? &reuseStepTolerance_ : nullptr);
   stats.solveSeconds += SecondsSince(start);
   stats.linearIterations += result.iterations;
   ++stats.linearSolves;
@@ -326,6 +331,14 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
   for (Actor* actor : actors) actor->BeginStage(stage, gravity);
   Span<real> const lengthScales(dofLengthScales_.data(), dofLengthScales_.size());
   for (Actor* actor : actors) actor->WriteDofLengthScales(lengthScales);
+  assembler_.PermuteToOrdered(Span<real const>(dofLengthScales_.data(), dofLengthScales_.size()),
+                              Span<real>(orderedLengthScales_.data(), orderedLengthScales_.size()));
+  // a reused-factor CG also stops once its error, scaled like the Newton
+  // step, is a tenth of the Newton tolerance: a step near convergence is
+  // known well enough to decide convergence and to take
+  reuseStepTolerance_.scales =
+      Span<real const>(orderedLengthScales_.data(), orderedLengthScales_.size());
+  reuseStepTolerance_.tolerance = kReuseStepAccuracy * newton.velocityTolerance * h;
 
   real energy = TotalEnergy(actors, constraints, h);
   if (!std::isfinite(energy)) {

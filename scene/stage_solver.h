@@ -113,6 +113,8 @@ class StageSolver {
   VectorX dofLengthScales_;  ///< ℓⱼ per DoF (Actor::WriteDofLengthScales)
   VectorX dofInverseMasses_;  ///< 1/M_jj per DoF (Actor::WriteDofInverseMasses), near-rigid cap only
   ReusedFactorCg reuseCg_;
+  VectorX orderedLengthScales_;  ///< dofLengthScales_ in the fill-reducing order
+  ReusedFactorCg::StepTolerance reuseStepTolerance_;  ///< over orderedLengthScales_, per stage
   int reuseFailuresInRow_ = 0;  ///< reused-factor solves that did not converge, this stage
   real energyScale_ = 0;     ///< Σ|terms| of Eᵢ at the last TotalEnergy
   FaultInjection fault_;

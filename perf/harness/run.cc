@@ -212,7 +212,7 @@ struct MethodDef {
 using Pc = PcgPreconditioner;
 constexpr auto kPcg = LinearSolverType::PetscPcg;
 
-std::array<MethodDef, 14> const kMethods{{
+std::array<MethodDef, 15> const kMethods{{
     {"cholmod", LinearSolverType::Cholmod},
     {"cholmod-refactor", LinearSolverType::Cholmod, Pc::None, OrderingMethod::Metis, false, false, false},
     {"cholmod-reuse-fixed", LinearSolverType::Cholmod, Pc::None, OrderingMethod::Metis, false, false, true,
@@ -224,6 +224,7 @@ std::array<MethodDef, 14> const kMethods{{
     {"pcg-pbjacobi", kPcg, Pc::PointBlockJacobi},
     {"pcg-bjacobi", kPcg, Pc::BlockJacobi},
     {"pcg-icc", kPcg, Pc::Icc},
+    {"pcg-icc-ew", kPcg, Pc::Icc, OrderingMethod::Metis, false, true},
     {"pcg-gamg", kPcg, Pc::Gamg},
     {"pcg-gamg-reuse", kPcg, Pc::Gamg, OrderingMethod::Metis, true},
     {"pcg-gamg-ew", kPcg, Pc::Gamg, OrderingMethod::Metis, false, true},

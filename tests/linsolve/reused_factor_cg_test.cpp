@@ -85,6 +85,25 @@ TEST_CASE("CG with a reused factorization converges on a nearby matrix, to the r
     CHECK(again.iterations == 0);
     CHECK(x == before);
   }
+  SECTION("a step tolerance stops CG once M⁻¹ r, the error estimate, is below it") {
+    SparseSymmetricMatrix const now = Perturbed(old, 0.2);
+    VectorX exact(old.size);
+    REQUIRE(cg.Solve(now, *factor, View(b), View(exact), 1e-14, 100).status ==
+            ReusedFactorCg::Status::Converged);
+    VectorX const scales = VectorX::LinSpaced(old.size, 0.5, 2.0);
+    real const largest = scales.cwiseProduct(exact).cwiseAbs().maxCoeff();
+    for (real fraction : {1e-2, 1e-4, 1e-6}) {
+      ReusedFactorCg::StepTolerance const step{View(scales), fraction * largest};
+      ReusedFactorCg::Result const r =
+          cg.Solve(now, *factor, View(b), View(x), 1e-14, 100, false, &step);
+      real const error = scales.cwiseProduct(x - exact).cwiseAbs().maxCoeff();
+      CAPTURE(fraction, r.iterations, r.relativeResidual, error / largest);
+      REQUIRE(r.status == ReusedFactorCg::Status::Converged);
+      CHECK(r.relativeResidual > 1e-14);  // stopped by the step tolerance
+      // M⁻¹ r estimates the error within the spread of M⁻¹ A's spectrum
+      CHECK(error <= 3 * step.tolerance);
+    }
+  }
   SECTION("an iteration cap below what it needs: NotConverged") {
     SparseSymmetricMatrix const now = Perturbed(old, 0.3);
     ReusedFactorCg::Result const r = cg.Solve(now, *factor, View(b), View(x), 1e-14, 2);
