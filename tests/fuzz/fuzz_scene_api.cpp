@@ -6,6 +6,8 @@
 // call: nothing crashes or throws, and a call that fails leaves both scenes
 // bit-identical (docs/lifetime.md).
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <vector>
 
@@ -15,6 +17,11 @@ using namespace superdex;
 using namespace superdex::fuzz;
 
 namespace {
+
+bool Trace() {
+  static bool const trace = std::getenv("FUZZ_TRACE") != nullptr;
+  return trace;
+}
 
 /// The input, read front to back; zeros once it is used up.
 class Input {
@@ -137,6 +144,9 @@ class Driver {
       Scene& scene = *scenes_[s];
       std::vector<std::uint8_t> const before[2] = {Digest(*scenes_[0]), Digest(*scenes_[1])};
       bool const ok = Call(s, scene);
+      // FUZZ_TRACE=1 replays an input call by call (to read a finding)
+      if (Trace()) std::fprintf(stderr, "scene %d: %s -> %s (%d DoFs)\n", s, lastCall_.c_str(),
+                                ok ? "ok" : "failed", scene.GetNumDofs());
       if (!ok) {
         Expect(Digest(*scenes_[0]) == before[0] && Digest(*scenes_[1]) == before[1],
                "a failed call changed a scene", lastCall_);
@@ -244,7 +254,12 @@ class Driver {
       case 11: {
         lastCall_ = "Step";
         static real const kDt[] = {1e-3, 1.0 / 60, 1.0 / 30, 0, -1e-3, std::nan(""), 1e300};
-        ok = scene.Step(kDt[in_.Int(7)], error);
+        real const dt = kDt[in_.Int(7)];
+        if (Trace()) {
+          lastCall_ += " " + std::to_string(dt);
+          std::fprintf(stderr, "  stepping by %g\n", dt);
+        }
+        ok = scene.Step(dt, error);
         break;
       }
       case 12: {
@@ -288,7 +303,12 @@ class Driver {
         pcg.preconditioner = static_cast<PcgPreconditioner>(in_.Int(10));
         if (!in_.Int(3)) pcg.relativeTolerance = in_.Real();
         if (!in_.Int(3)) pcg.maxIterations = in_.Int(256) - 16;
-        ok = scene.SetLinearSolver(static_cast<LinearSolverType>(in_.Int(6)), pcg, error);
+        LinearSolverType const type = static_cast<LinearSolverType>(in_.Int(6));
+        if (Trace())
+          lastCall_ += " " + std::to_string(static_cast<int>(type)) + " pc " +
+                       std::to_string(static_cast<int>(pcg.preconditioner)) + " rtol " +
+                       std::to_string(pcg.relativeTolerance) + " maxIt " + std::to_string(pcg.maxIterations);
+        ok = scene.SetLinearSolver(type, pcg, error);
         break;
       }
     }
