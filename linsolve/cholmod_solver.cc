@@ -20,6 +20,15 @@ struct CholmodSolver::Impl {
   cholmod_dense* workY = nullptr;
   cholmod_dense* workE = nullptr;
   std::vector<double> permuted;  ///< simplicial solves: P b, then the solution in L's order
+  // A simplicial factor in a permuted order is analyzed on the permuted
+  // matrix S = triu(P A Pᵀ) itself (the order folded in): cholmod_factorize
+  // then reads S as it is, where with L->Perm it would transpose A twice per
+  // call (allocating both). S's values are gathered from A's each Factorize.
+  bool folded = false;
+  cholmod_sparse* foldedMatrix = nullptr;  ///< S: upper CSC, sorted
+  std::vector<int> order;                  ///< folded: L's column k is A's column order[k]
+  std::vector<int> gather;                 ///< folded: S's entry e is A's value gather[e]
+  int orderingUsed = 0;                    ///< the ordering the analysis chose (L->ordering before folding)
   int size = 0;
   double factorNonzeros = -1;
   double factorFlops = -1;
@@ -27,6 +36,8 @@ struct CholmodSolver::Impl {
 
   void FreeFactorAndWorkspaces() {
     cholmod_free_factor(&factor, &common);
+    cholmod_free_sparse(&foldedMatrix, &common);
+    folded = false;
     cholmod_free_dense(&solution, &common);
     cholmod_free_dense(&workY, &common);
     cholmod_free_dense(&workE, &common);
@@ -147,14 +158,14 @@ int FirstNonPositivePivot(cholmod_factor const& factor, std::size_t end) {
 // allocates on every call in this CHOLMOD version; this is the same
 // arithmetic on one column, in place. Each column of L holds D(j) first,
 // then the entries below the (unit) diagonal.
-void SolveSimplicialLdl(cholmod_factor const& factor, double const* b, double* x, double* y) {
+void SolveSimplicialLdl(cholmod_factor const& factor, int const* perm, double const* b, double* x,
+                        double* y) {
   auto const n = static_cast<std::ptrdiff_t>(factor.n);
-  auto const* perm = static_cast<int const*>(factor.Perm);
   auto const* p = static_cast<int const*>(factor.p);
   auto const* nz = static_cast<int const*>(factor.nz);
   auto const* row = static_cast<int const*>(factor.i);
   auto const* value = static_cast<double const*>(factor.x);
-  bool const permuted = perm != nullptr && factor.ordering != CHOLMOD_NATURAL;
+  bool const permuted = perm != nullptr;
   for (std::ptrdiff_t k = 0; k < n; ++k) y[k] = b[permuted ? perm[k] : k];
   for (std::ptrdiff_t j = 0; j < n; ++j) {  // L y = P b
     double const yj = y[j];
@@ -226,7 +237,7 @@ std::string CholmodSolver::GetDescription() const {
   }
   text += factor->is_super ? " supernodal" : " simplicial";
   text += factor->is_ll ? " LL'" : " LDL'";
-  text += ", ordering " + OrderingName(factor->ordering);
+  text += ", ordering " + OrderingName(impl_->orderingUsed);
   return text;
 }
 
@@ -249,6 +260,7 @@ double CholmodSolver::GetFactorStoredEntries() const {
 DynamicArray<int> CholmodSolver::GetFactorPermutation() const {
   cholmod_factor const* factor = impl_->factor;
   if (factor == nullptr) return {};
+  if (impl_->folded) return DynamicArray<int>(impl_->order.begin(), impl_->order.end());
   DynamicArray<int> permutation(factor->n);
   auto const* perm = static_cast<int const*>(factor->Perm);
   for (std::size_t k = 0; k < factor->n; ++k) {
@@ -283,10 +295,86 @@ LinearSolveResult CholmodSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
   }
   impl.factorNonzeros = impl.common.lnz;
   impl.factorFlops = impl.common.fl;
+  impl.orderingUsed = impl.factor->ordering;
   // a simplicial symbolic factor has no values yet: its numeric
   // factorization stores exactly nnz(L) (final_pack)
   impl.factorStoredEntries =
       impl.factor->is_super ? static_cast<double>(impl.factor->xsize) : impl.common.lnz;
+  if (!impl.factor->is_super && impl.factor->ordering != CHOLMOD_NATURAL) return FoldOrder(a);
+  return {};
+}
+
+LinearSolveResult CholmodSolver::FoldOrder(SparseSymmetricMatrix const& a) {
+  // S = triu(P A Pᵀ) for L's order P (L->Perm: L's column k is A's column
+  // Perm[k]), with the map from S's entries to A's values; then S is
+  // analyzed in its natural order, without a postorder (it is one already),
+  // which gives the same L
+  Impl& impl = *impl_;
+  int const n = a.size;
+  auto const* perm = static_cast<int const*>(impl.factor->Perm);
+  impl.order.assign(perm, perm + n);
+  std::vector<int> position(n);
+  for (int k = 0; k < n; ++k) position[perm[k]] = k;
+  std::size_t const numEntries = a.rowIndex.size();
+  std::vector<int> entryColumn(numEntries), entryRow(numEntries);
+  std::vector<int> count(n + 1, 0);
+  for (int j = 0; j < n; ++j)
+    for (int e = a.colStart[j]; e < a.colStart[j + 1]; ++e) {
+      int const pi = position[a.rowIndex[e]], pj = position[j];
+      entryRow[e] = std::min(pi, pj);
+      entryColumn[e] = std::max(pi, pj);
+      ++count[entryColumn[e] + 1];
+    }
+  for (int j = 0; j < n; ++j) count[j + 1] += count[j];
+  cholmod_sparse* folded = cholmod_allocate_sparse(n, n, numEntries, /*sorted=*/1, /*packed=*/1,
+                                                   /*stype=*/1, CHOLMOD_REAL, &impl.common);
+  if (folded == nullptr) return Failure(LinearSolveStatus::BackendError,
+                                        "cholmod_allocate_sparse failed: " + StatusName(impl.common.status));
+  auto* colStart = static_cast<int*>(folded->p);
+  auto* rowIndex = static_cast<int*>(folded->i);
+  std::copy(count.begin(), count.end(), colStart);
+  impl.gather.assign(numEntries, 0);
+  std::vector<int> next(count.begin(), count.end() - 1);
+  for (std::size_t e = 0; e < numEntries; ++e) {
+    int const slot = next[entryColumn[e]]++;
+    rowIndex[slot] = entryRow[e];
+    impl.gather[slot] = static_cast<int>(e);
+  }
+  // rows ascending within each column (the diagonal last, as in A)
+  std::vector<std::pair<int, int>> column;
+  for (int j = 0; j < n; ++j) {
+    column.clear();
+    for (int slot = colStart[j]; slot < colStart[j + 1]; ++slot) column.emplace_back(rowIndex[slot], impl.gather[slot]);
+    std::sort(column.begin(), column.end());
+    for (int slot = colStart[j], k = 0; slot < colStart[j + 1]; ++slot, ++k) {
+      rowIndex[slot] = column[k].first;
+      impl.gather[slot] = column[k].second;
+    }
+  }
+
+  cholmod_common& common = impl.common;
+  int const savedMethods = common.nmethods, savedOrdering = common.method[0].ordering;
+  int const savedPostorder = common.postorder, savedSupernodal = common.supernodal;
+  common.nmethods = 1;
+  common.method[0].ordering = CHOLMOD_NATURAL;
+  common.postorder = 0;
+  common.supernodal = CHOLMOD_SIMPLICIAL;
+  cholmod_factor* factor = cholmod_analyze(folded, &common);  // reads the pattern only
+  common.nmethods = savedMethods;
+  common.method[0].ordering = savedOrdering;
+  common.postorder = savedPostorder;
+  common.supernodal = savedSupernodal;
+  if (factor == nullptr || common.status < CHOLMOD_OK) {
+    int const status = common.status;
+    cholmod_free_factor(&factor, &common);
+    cholmod_free_sparse(&folded, &common);
+    impl.FreeFactorAndWorkspaces();
+    return Failure(LinearSolveStatus::BackendError, "cholmod_analyze failed: " + StatusName(status));
+  }
+  cholmod_free_factor(&impl.factor, &common);
+  impl.factor = factor;
+  impl.foldedMatrix = folded;
+  impl.folded = true;
   return {};
 }
 
@@ -299,7 +387,12 @@ LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   // start-up and synchronization (docs/linear_solvers.md, "BLAS threads")
   internal::SetBlasThreads(impl.factorFlops >= kParallelBlasFlops ? internal::BlasStartThreads() : 1);
   cholmod_sparse matrix = WrapUpperTriangle(a, /*withValues=*/true);
-  int const ok = cholmod_factorize(&matrix, impl.factor, &impl.common);
+  if (impl.folded) {
+    auto* values = static_cast<double*>(impl.foldedMatrix->x);
+    int const* gather = impl.gather.data();
+    for (std::size_t e = 0, end = impl.gather.size(); e < end; ++e) values[e] = a.values[gather[e]];
+  }
+  int const ok = cholmod_factorize(impl.folded ? impl.foldedMatrix : &matrix, impl.factor, &impl.common);
   int const status = impl.common.status;
   if (!ok || status < CHOLMOD_OK) {
     return Failure(LinearSolveStatus::BackendError,
@@ -310,7 +403,7 @@ LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   // definite: the failure is in Common->status, and L->minor is the first
   // failing column of L, in L's (postordered) order
   cholmod_factor const& factor = *impl.factor;
-  auto const* perm = static_cast<int const*>(factor.Perm);
+  auto const* perm = impl.folded ? impl.order.data() : static_cast<int const*>(factor.Perm);
   auto const toCallerColumn = [perm](int k) { return perm != nullptr ? perm[k] : k; };
   // a simplicial LDLᵀ factor flags only zero pivots: find the first
   // non-positive one before the column CHOLMOD stopped at
@@ -347,7 +440,10 @@ LinearSolveResult CholmodSolver::DoSolve(Span<real const> b, Span<real> x) {
   cholmod_factor const& factor = *impl.factor;
   if (!factor.is_super && !factor.is_ll) {
     impl.permuted.resize(n);  // sized once per analysis
-    SolveSimplicialLdl(factor, b.data(), x.data(), impl.permuted.data());
+    int const* perm = impl.folded ? impl.order.data()
+                      : factor.ordering != CHOLMOD_NATURAL ? static_cast<int const*>(factor.Perm)
+                                                           : nullptr;
+    SolveSimplicialLdl(factor, perm, b.data(), x.data(), impl.permuted.data());
     return {};
   }
 

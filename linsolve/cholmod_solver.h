@@ -95,6 +95,11 @@ class CholmodSolver final : public LinearSolver {
   LinearSolveResult DoSolve(Span<real const> b, Span<real> x) override;
 
  private:
+  /// After a simplicial analysis in a permuted order: analyzes the permuted
+  /// matrix itself instead (Impl::folded), so that Factorize does not
+  /// transpose A twice per call.
+  LinearSolveResult FoldOrder(SparseSymmetricMatrix const& a);
+
   struct Impl;  // the cholmod_common, factor and workspaces (cholmod_solver.cc)
 
   CholmodOrdering ordering_;
