@@ -16,6 +16,38 @@
 
 namespace superdex::internal {
 
+namespace {
+
+/// Icc and BlockJacobi factor the Jacobi-scaled Â = S A S, S = diag(A)^-1/2,
+/// in an inner PC; the KSP's PC is a shell applying S inner⁻¹ S, the same
+/// preconditioner in exact arithmetic where no shift is needed. PETSc's
+/// positive-definite shift is sized in the matrix's own units, so on an
+/// unscaled matrix it depends on the units: Kershaw's matrix with two
+/// blocks scaled by 1e3 and 1e-3 gave a preconditioner CG diverged with
+/// (petsc_pcg_solver_test); on Â the same shift is relative to a unit
+/// diagonal.
+struct ScaledFactor {
+  Mat matrix = nullptr;  ///< Â, the pattern of A
+  Vec scale = nullptr;   ///< S's diagonal
+  Vec work = nullptr;
+  PC inner = nullptr;    ///< the ICC or block-Jacobi PC on Â
+};
+
+PetscErrorCode ApplyScaledFactor(PC pc, Vec r, Vec z) {
+  void* context = nullptr;
+  PetscCall(PCShellGetContext(pc, &context));
+  auto const& scaled = *static_cast<ScaledFactor const*>(context);
+  PetscCall(VecPointwiseMult(scaled.work, scaled.scale, r));
+  PetscCall(PCApply(scaled.inner, scaled.work, z));
+  PetscCall(VecPointwiseMult(z, scaled.scale, z));
+  PCFailedReason failed = PC_NOERROR;
+  PetscCall(PCGetFailedReason(scaled.inner, &failed));
+  if (failed != PC_NOERROR) PetscCall(PCSetFailedReason(pc, failed));
+  return 0;
+}
+
+}  // namespace
+
 struct PetscPcgSolver::Impl {
   Mat matrix = nullptr;
   KSP ksp = nullptr;
@@ -34,12 +66,20 @@ struct PetscPcgSolver::Impl {
   DynamicArray<std::string> defaultNames;  ///< options SuperDex inserted
   DynamicArray<std::string> userNames;     ///< PcgParams::options, checked for use
   bool optionsChecked = false;
+  bool isScaled = false;  ///< Icc, BlockJacobi: the factor is of Â (ScaledFactor)
+  ScaledFactor scaled;
 
   void DestroyObjects() {
     if (IsPetscFinalized()) {  // PETSc is gone; so are its objects
       matrix = nullptr, ksp = nullptr, rhs = nullptr, solution = nullptr;
+      scaled = ScaledFactor{};
       return;
     }
+    PCDestroy(&scaled.inner);
+    MatDestroy(&scaled.matrix);
+    VecDestroy(&scaled.scale);
+    VecDestroy(&scaled.work);
+    isScaled = false;
     KSPDestroy(&ksp);
     MatDestroy(&matrix);
     VecDestroy(&rhs);
@@ -290,6 +330,22 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
                                   PETSC_DEFAULT, params_.maxIterations));
   PC pc = nullptr;
   SUPERDEX_PETSC(KSPGetPC(impl.ksp, &pc));
+  impl.isScaled = params_.preconditioner == PcgPreconditioner::Icc ||
+                  params_.preconditioner == PcgPreconditioner::BlockJacobi;
+  if (impl.isScaled) {
+    // the KSP's PC applies S inner⁻¹ S; `pc` below is the inner one
+    ScaledFactor& scaled = impl.scaled;
+    SUPERDEX_PETSC(MatDuplicate(impl.matrix, MAT_DO_NOT_COPY_VALUES, &scaled.matrix));
+    SUPERDEX_PETSC(MatSetOption(scaled.matrix, MAT_SYMMETRIC, PETSC_TRUE));
+    SUPERDEX_PETSC(MatSetOption(scaled.matrix, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
+    SUPERDEX_PETSC(MatCreateVecs(impl.matrix, &scaled.scale, &scaled.work));
+    SUPERDEX_PETSC(PCSetType(pc, PCSHELL));
+    SUPERDEX_PETSC(PCShellSetContext(pc, &scaled));
+    SUPERDEX_PETSC(PCShellSetApply(pc, ApplyScaledFactor));
+    SUPERDEX_PETSC(PCCreate(PETSC_COMM_SELF, &scaled.inner));
+    SUPERDEX_PETSC(PCSetOptionsPrefix(scaled.inner, impl.prefix.c_str()));
+    pc = scaled.inner;
+  }
   SUPERDEX_PETSC(PCSetType(pc, PcTypeName(params_.preconditioner)));
 
   // preconditioner settings SuperDex chooses, as options under this solver's
@@ -381,6 +437,7 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
                                         option.value.empty() ? nullptr : option.value.c_str()));
   }
   SUPERDEX_PETSC(KSPSetFromOptions(impl.ksp));
+  if (impl.isScaled) SUPERDEX_PETSC(PCSetFromOptions(impl.scaled.inner));
   ++numObjectBuilds_;
   return {};
 }
@@ -396,10 +453,15 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
     if (impl.lowerSlot[k] >= 0) values[impl.lowerSlot[k]] = a.values[k];
   }
   SUPERDEX_PETSC(MatSeqAIJRestoreArrayWrite(impl.matrix, &values));
+  if (impl.isScaled) {
+    LinearSolveResult scaledValues = FillScaledMatrix(a);
+    if (!scaledValues.Ok()) return scaledValues;
+  }
 
   // rebuild the preconditioner every preconditionerLag-th set-up
   PC pc = nullptr;
   SUPERDEX_PETSC(KSPGetPC(impl.ksp, &pc));
+  if (impl.isScaled) pc = impl.scaled.inner;
   bool const reuse = impl.setUps % params_.preconditionerLag != 0;
   ++impl.setUps;
   SUPERDEX_PETSC(PCSetReusePreconditioner(pc, reuse ? PETSC_TRUE : PETSC_FALSE));
@@ -407,6 +469,12 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   // preconditioner up here rather than inside the next KSPSolve
   SUPERDEX_PETSC(KSPSetOperators(impl.ksp, impl.matrix, impl.matrix));
   SUPERDEX_PETSC(KSPSetUp(impl.ksp));
+  if (impl.isScaled) {
+    // the inner PC and its blocks' factorizations, here rather than in KSPSolve
+    SUPERDEX_PETSC(PCSetOperators(pc, impl.scaled.matrix, impl.scaled.matrix));
+    SUPERDEX_PETSC(PCSetUp(pc));
+    SUPERDEX_PETSC(PCSetUpOnBlocks(pc));
+  }
   PCFailedReason failed = PC_NOERROR;
   SUPERDEX_PETSC(PCGetFailedReason(pc, &failed));
   if (failed != PC_NOERROR) {
@@ -439,6 +507,46 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
       }
     }
   }
+  return {};
+}
+
+LinearSolveResult PetscPcgSolver::FillScaledMatrix(SparseSymmetricMatrix const& a) {
+  // S = diag(A)^-1/2 needs a positive diagonal, which every positive
+  // definite A has; PETSc's shift could not move the pivot of an empty row
+  // either (it is scaled by the row's off-diagonal sum)
+  Impl& impl = *impl_;
+  int const n = a.size;
+  PetscScalar* scale = nullptr;
+  SUPERDEX_PETSC(VecGetArrayWrite(impl.scaled.scale, &scale));
+  int badColumn = -1;
+  for (int j = 0; j < n && badColumn < 0; ++j) {
+    int const last = a.colStart[j + 1] - 1;  // the diagonal is last in its column
+    real const diagonal = last >= a.colStart[j] && a.rowIndex[last] == j ? a.values[last] : 0;
+    if (!(diagonal > 0) || !std::isfinite(diagonal))
+      badColumn = j;
+    else
+      scale[j] = 1 / std::sqrt(diagonal);
+  }
+  if (badColumn >= 0) {
+    VecRestoreArrayWrite(impl.scaled.scale, &scale);
+    LinearSolveResult result = Failure(
+        LinearSolveStatus::NotPositiveDefinite,
+        "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) +
+            ": the diagonal entry of column " + std::to_string(badColumn) +
+            " is not positive (the matrix is not positive definite)");
+    result.failingColumn = badColumn;
+    return result;
+  }
+  PetscScalar* values = nullptr;
+  SUPERDEX_PETSC(MatSeqAIJGetArrayWrite(impl.scaled.matrix, &values));
+  for (int j = 0; j < n; ++j)
+    for (int k = a.colStart[j]; k < a.colStart[j + 1]; ++k) {
+      real const value = a.values[k] * scale[a.rowIndex[k]] * scale[j];
+      values[impl.upperSlot[k]] = value;
+      if (impl.lowerSlot[k] >= 0) values[impl.lowerSlot[k]] = value;
+    }
+  SUPERDEX_PETSC(MatSeqAIJRestoreArrayWrite(impl.scaled.matrix, &values));
+  SUPERDEX_PETSC(VecRestoreArrayWrite(impl.scaled.scale, &scale));
   return {};
 }
 
@@ -480,7 +588,7 @@ LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
       PC pc = nullptr;
       PCFailedReason failed = PC_NOERROR;
       KSPGetPC(impl.ksp, &pc);
-      PCGetFailedReason(pc, &failed);
+      PCGetFailedReason(impl.isScaled ? impl.scaled.inner : pc, &failed);
       result.reason += std::string(" (PC_") + PCFailedReasons[failed] + ")";
     }
   }

@@ -71,6 +71,10 @@ class PetscPcgSolver final : public LinearSolver {
   LinearSolveResult DoResume(Span<real const> b, Span<real> x) override;
 
  private:
+  /// Icc, BlockJacobi: the Jacobi-scaled matrix their factorization sees
+  /// (petsc_pcg_solver.cc, ScaledFactor); refuses a non-positive diagonal.
+  LinearSolveResult FillScaledMatrix(SparseSymmetricMatrix const& a);
+
   struct Impl;  // the PETSc objects (petsc_pcg_solver.cc)
 
   PcgParams params_;
