@@ -393,11 +393,19 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
         return false;
       }
 
-      // once per iteration: a projected retry has the same gradient
-      if (!forcingSet && newton.reuseForcingTerms && !solver_->IsIterative()) {
-        reuseTolerance = ForcingTerm(iteration, gradient_.norm(), newton.factorReuseTolerance,
-                                     std::max(newton.factorReuseTolerance, kMaxReuseForcingTerm));
+      // the inexact-Newton forcing term, once per iteration (a projected
+      // retry has the same gradient): of the PCG solve, or of the
+      // reused-factor CG of a direct solver
+      if (!forcingSet) {
         forcingSet = true;
+        if (inexact) {
+          forcingTerm = ForcingTerm(iteration, gradient_.norm(), pcg_.relativeTolerance,
+                                    pcg_.adaptiveMaxTolerance);
+          solver_->SetRelativeTolerance(forcingTerm);
+        } else if (newton.reuseForcingTerms && !solver_->IsIterative()) {
+          reuseTolerance = ForcingTerm(iteration, gradient_.norm(), newton.factorReuseTolerance,
+                                       std::max(newton.factorReuseTolerance, kMaxReuseForcingTerm));
+        }
       }
       if (SolveWithReusedFactor(newton, reuseTolerance, /*resume=*/false, stats)) {
         result = LinearSolveResult{};
@@ -408,13 +416,6 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
         result = solver_->Factorize(assembler_.GetMatrix());
         stats.factorizationSeconds += SecondsSince(start);
         ++stats.factorizations;
-        // once per iteration: a projected retry has the same gradient
-        if (inexact && !forcingSet) {
-          forcingTerm = ForcingTerm(iteration, gradient_.norm(), pcg_.relativeTolerance,
-                                    pcg_.adaptiveMaxTolerance);
-          solver_->SetRelativeTolerance(forcingTerm);
-          forcingSet = true;
-        }
         if (result.Ok()) result = SolveNewtonSystem(stats);
       }
       bool const notDescent = Usable(result) && !(gradient_.dot(delta_) < 0);
