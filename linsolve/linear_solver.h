@@ -39,9 +39,11 @@ enum class PcgPreconditioner {
   Jacobi,            ///< diagonal scaling (PCJACOBI)
   PointBlockJacobi,  ///< inverse of each DoF block's diagonal block: 3×3 per node,
                      ///< 6×6 per rigid body (PCVPBJACOBI on the ordered blocks)
-  BlockJacobi,       ///< PCBJACOBI, `blockJacobiBlocks` contiguous blocks of the
-                     ///< METIS-ordered matrix, each with ICC(`iccLevels`) in RCM order
-  Icc,               ///< incomplete Cholesky ICC(`iccLevels`) of the whole matrix (PCICC), RCM-ordered
+  BlockJacobi,       ///< block Jacobi: `blockJacobiBlocks` contiguous blocks of the
+                     ///< METIS-ordered matrix, each with its own IC(`iccLevels`) (below)
+  Icc,               ///< incomplete Cholesky IC(`iccLevels`) of the whole matrix, Jacobi-scaled
+                     ///< and RCM-ordered, with bounded diagonal shifts (SuperDex's own, in a
+                     ///< PCSHELL: docs/linear_solvers.md)
   Gamg,              ///< PETSc's smoothed-aggregation AMG (PCGAMG) with the rigid-body
                      ///< near-null space (3 translations, 3 rotations) of the scene's DoFs
   BoomerAmg,         ///< hypre BoomerAMG (PCHYPRE), if the installed PETSc has hypre

@@ -12,37 +12,28 @@
 #include <petscksp.h>
 
 #include <superdex/core/validate.h>
+#include <superdex/linsolve/incomplete_cholesky.h>
 #include <superdex/linsolve/petsc_runtime.h>
 
 namespace superdex::internal {
 
 namespace {
 
-/// Icc and BlockJacobi factor the Jacobi-scaled Â = S A S, S = diag(A)^-1/2,
-/// in an inner PC; the KSP's PC is a shell applying S inner⁻¹ S, the same
-/// preconditioner in exact arithmetic where no shift is needed. PETSc's
-/// positive-definite shift is sized in the matrix's own units, so on an
-/// unscaled matrix it depends on the units: Kershaw's matrix with two
-/// blocks scaled by 1e3 and 1e-3 gave a preconditioner CG diverged with
-/// (petsc_pcg_solver_test); on Â the same shift is relative to a unit
-/// diagonal.
-struct ScaledFactor {
-  Mat matrix = nullptr;  ///< Â, the pattern of A
-  Vec scale = nullptr;   ///< S's diagonal
-  Vec work = nullptr;
-  PC inner = nullptr;    ///< the ICC or block-Jacobi PC on Â
-};
-
-PetscErrorCode ApplyScaledFactor(PC pc, Vec r, Vec z) {
+/// Icc and BlockJacobi: the KSP's PC is a shell applying SuperDex's own
+/// incomplete Cholesky (incomplete_cholesky.h): IC(k) of the Jacobi-scaled
+/// matrix, in RCM order, its diagonal shifts bounded. PETSc's PCICC (with
+/// PCBJACOBI around it) was used before; its positive-definite shift loop
+/// never ended on a matrix the fuzzer found (tests/fuzz/findings).
+PetscErrorCode ApplyIncompleteCholesky(PC pc, Vec r, Vec z) {
   void* context = nullptr;
   PetscCall(PCShellGetContext(pc, &context));
-  auto const& scaled = *static_cast<ScaledFactor const*>(context);
-  PetscCall(VecPointwiseMult(scaled.work, scaled.scale, r));
-  PetscCall(PCApply(scaled.inner, scaled.work, z));
-  PetscCall(VecPointwiseMult(z, scaled.scale, z));
-  PCFailedReason failed = PC_NOERROR;
-  PetscCall(PCGetFailedReason(scaled.inner, &failed));
-  if (failed != PC_NOERROR) PetscCall(PCSetFailedReason(pc, failed));
+  PetscScalar const* in = nullptr;
+  PetscScalar* out = nullptr;
+  PetscCall(VecGetArrayRead(r, &in));
+  PetscCall(VecGetArrayWrite(z, &out));
+  static_cast<IncompleteCholesky*>(context)->Apply(in, out);
+  PetscCall(VecRestoreArrayWrite(z, &out));
+  PetscCall(VecRestoreArrayRead(r, &in));
   return 0;
 }
 
@@ -66,20 +57,16 @@ struct PetscPcgSolver::Impl {
   DynamicArray<std::string> defaultNames;  ///< options SuperDex inserted
   DynamicArray<std::string> userNames;     ///< PcgParams::options, checked for use
   bool optionsChecked = false;
-  bool isScaled = false;  ///< Icc, BlockJacobi: the factor is of Â (ScaledFactor)
-  ScaledFactor scaled;
+  /// Icc, BlockJacobi: the shell PC's factor, and whether it holds one
+  bool usesIncomplete = false;
+  IncompleteCholesky incomplete;
+  bool incompleteFactored = false;
 
   void DestroyObjects() {
     if (IsPetscFinalized()) {  // PETSc is gone; so are its objects
       matrix = nullptr, ksp = nullptr, rhs = nullptr, solution = nullptr;
-      scaled = ScaledFactor{};
       return;
     }
-    PCDestroy(&scaled.inner);
-    MatDestroy(&scaled.matrix);
-    VecDestroy(&scaled.scale);
-    VecDestroy(&scaled.work);
-    isScaled = false;
     KSPDestroy(&ksp);
     MatDestroy(&matrix);
     VecDestroy(&rhs);
@@ -154,8 +141,8 @@ char const* PcTypeName(PcgPreconditioner preconditioner) {
     case PcgPreconditioner::None: return PCNONE;
     case PcgPreconditioner::Jacobi: return PCJACOBI;
     case PcgPreconditioner::PointBlockJacobi: return PCVPBJACOBI;
-    case PcgPreconditioner::BlockJacobi: return PCBJACOBI;
-    case PcgPreconditioner::Icc: return PCICC;
+    case PcgPreconditioner::BlockJacobi:  // SuperDex's own (IncompleteCholesky)
+    case PcgPreconditioner::Icc: return PCSHELL;
     case PcgPreconditioner::Gamg: return PCGAMG;
     case PcgPreconditioner::BoomerAmg: return PCHYPRE;
   }
@@ -205,6 +192,10 @@ std::string PetscPcgSolver::GetDescription() const {
   text += ", rtol " + std::string(rtol);
   if (params_.adaptiveTolerance) text += " (adaptive)";
   return text;
+}
+
+IncompleteCholesky const* PetscPcgSolver::GetIncompleteFactor() const {
+  return impl_->usesIncomplete ? &impl_->incomplete : nullptr;
 }
 
 void PetscPcgSolver::SetRelativeTolerance(real relativeTolerance) {
@@ -330,23 +321,39 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
                                   PETSC_DEFAULT, params_.maxIterations));
   PC pc = nullptr;
   SUPERDEX_PETSC(KSPGetPC(impl.ksp, &pc));
-  impl.isScaled = params_.preconditioner == PcgPreconditioner::Icc ||
-                  params_.preconditioner == PcgPreconditioner::BlockJacobi;
-  if (impl.isScaled) {
-    // the KSP's PC applies S inner⁻¹ S; `pc` below is the inner one
-    ScaledFactor& scaled = impl.scaled;
-    SUPERDEX_PETSC(MatDuplicate(impl.matrix, MAT_DO_NOT_COPY_VALUES, &scaled.matrix));
-    SUPERDEX_PETSC(MatSetOption(scaled.matrix, MAT_SYMMETRIC, PETSC_TRUE));
-    SUPERDEX_PETSC(MatSetOption(scaled.matrix, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
-    SUPERDEX_PETSC(MatCreateVecs(impl.matrix, &scaled.scale, &scaled.work));
+  impl.usesIncomplete = params_.preconditioner == PcgPreconditioner::Icc ||
+                        params_.preconditioner == PcgPreconditioner::BlockJacobi;
+  impl.incompleteFactored = false;
+  if (impl.usesIncomplete) {
+    // block Jacobi: contiguous groups of whole DoF blocks with about equal
+    // DoF counts, each its own incomplete factor; ICC: one group
+    DynamicArray<int> groupSizes;
+    if (params_.preconditioner == PcgPreconditioner::BlockJacobi) {
+      int const groups = std::max(1, std::min(params_.blockJacobiBlocks, n));
+      int start = 0, dof = 0;
+      for (int size : a.blockSizes.empty() ? DynamicArray<int>(n, 1) : a.blockSizes) {
+        dof += size;
+        long const target = static_cast<long>(n) * (static_cast<long>(groupSizes.size()) + 1) / groups;
+        if (dof >= target) {
+          groupSizes.push_back(dof - start);
+          start = dof;
+        }
+      }
+      if (dof > start) groupSizes.push_back(dof - start);
+    }
+    IncompleteCholesky::Result const analyzed =
+        impl.incomplete.Analyze(a, params_.iccLevels, groupSizes);
+    if (!analyzed.ok)
+      return Failure(LinearSolveStatus::InvalidInput, "incomplete Cholesky: " + analyzed.reason);
     SUPERDEX_PETSC(PCSetType(pc, PCSHELL));
-    SUPERDEX_PETSC(PCShellSetContext(pc, &scaled));
-    SUPERDEX_PETSC(PCShellSetApply(pc, ApplyScaledFactor));
-    SUPERDEX_PETSC(PCCreate(PETSC_COMM_SELF, &scaled.inner));
-    SUPERDEX_PETSC(PCSetOptionsPrefix(scaled.inner, impl.prefix.c_str()));
-    pc = scaled.inner;
+    SUPERDEX_PETSC(PCShellSetContext(pc, &impl.incomplete));
+    SUPERDEX_PETSC(PCShellSetApply(pc, ApplyIncompleteCholesky));
+    SUPERDEX_PETSC(PCShellSetName(pc, params_.preconditioner == PcgPreconditioner::Icc
+                                          ? "SuperDex IC(k), RCM order"
+                                          : "SuperDex block Jacobi with IC(k), RCM order"));
+  } else {
+    SUPERDEX_PETSC(PCSetType(pc, PcTypeName(params_.preconditioner)));
   }
-  SUPERDEX_PETSC(PCSetType(pc, PcTypeName(params_.preconditioner)));
 
   // preconditioner settings SuperDex chooses, as options under this solver's
   // prefix so that PcgParams::options (inserted after them) can override them
@@ -356,35 +363,6 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
     return PetscOptionsSetValue(nullptr, name.c_str(), value.c_str());
   };
   switch (params_.preconditioner) {
-    case PcgPreconditioner::BlockJacobi: {
-      // contiguous groups of whole DoF blocks with about equal DoF counts
-      int const groups = std::max(1, std::min(params_.blockJacobiBlocks, n));
-      DynamicArray<PetscInt> lengths;
-      int start = 0, dof = 0;
-      for (int size : a.blockSizes.empty() ? DynamicArray<int>(n, 1) : a.blockSizes) {
-        dof += size;
-        long const target = static_cast<long>(n) * (static_cast<long>(lengths.size()) + 1) / groups;
-        if (dof >= target) {
-          lengths.push_back(dof - start);
-          start = dof;
-        }
-      }
-      if (dof > start) lengths.push_back(dof - start);
-      if (!lengths.empty())
-        SUPERDEX_PETSC(PCBJacobiSetTotalBlocks(pc, static_cast<PetscInt>(lengths.size()), lengths.data()));
-      SUPERDEX_PETSC(setDefault("-sub_pc_type", "icc"));
-      SUPERDEX_PETSC(setDefault("-sub_pc_factor_levels", std::to_string(params_.iccLevels)));
-      SUPERDEX_PETSC(setDefault("-sub_pc_factor_mat_ordering_type", MATORDERINGRCM));
-      break;
-    }
-    case PcgPreconditioner::Icc:
-      SUPERDEX_PETSC(PCFactorSetLevels(pc, params_.iccLevels));
-      // ICC on the assembler's METIS (nested-dissection) order is weak: RCM
-      // keeps the incomplete factor's dropped fill small. CG iterations over
-      // a run, natural vs RCM: beam 40x8x8 1057 vs 635, cloth 24x24 1805 vs
-      // 704, rods 16x100 26004 vs 11, chain N=50 249 vs 10
-      SUPERDEX_PETSC(PCFactorSetMatOrderingType(pc, MATORDERINGRCM));
-      break;
     case PcgPreconditioner::Gamg:
       SUPERDEX_PETSC(PCGAMGSetReuseInterpolation(pc, params_.reuseAmgInterpolation ? PETSC_TRUE
                                                                                     : PETSC_FALSE));
@@ -437,7 +415,6 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
                                         option.value.empty() ? nullptr : option.value.c_str()));
   }
   SUPERDEX_PETSC(KSPSetFromOptions(impl.ksp));
-  if (impl.isScaled) SUPERDEX_PETSC(PCSetFromOptions(impl.scaled.inner));
   ++numObjectBuilds_;
   return {};
 }
@@ -453,36 +430,39 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
     if (impl.lowerSlot[k] >= 0) values[impl.lowerSlot[k]] = a.values[k];
   }
   SUPERDEX_PETSC(MatSeqAIJRestoreArrayWrite(impl.matrix, &values));
-  if (impl.isScaled) {
-    LinearSolveResult scaledValues = FillScaledMatrix(a);
-    if (!scaledValues.Ok()) return scaledValues;
-  }
 
-  // rebuild the preconditioner every preconditionerLag-th set-up
+  // rebuild the preconditioner every preconditionerLag-th set-up (and after
+  // a failed one)
+  bool const reuse = impl.setUps % params_.preconditionerLag != 0 &&
+                     (!impl.usesIncomplete || impl.incompleteFactored);
+  ++impl.setUps;
+  if (impl.usesIncomplete && !reuse) {
+    impl.incompleteFactored = false;
+    IncompleteCholesky::Result const factored = impl.incomplete.Factorize(a);
+    if (!factored.ok) {
+      LinearSolveResult result =
+          Failure(LinearSolveStatus::NotPositiveDefinite,
+                  "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) + ": " +
+                      factored.reason);
+      result.failingColumn = factored.failingColumn;
+      return result;
+    }
+    impl.incompleteFactored = true;
+  }
   PC pc = nullptr;
   SUPERDEX_PETSC(KSPGetPC(impl.ksp, &pc));
-  if (impl.isScaled) pc = impl.scaled.inner;
-  bool const reuse = impl.setUps % params_.preconditionerLag != 0;
-  ++impl.setUps;
   SUPERDEX_PETSC(PCSetReusePreconditioner(pc, reuse ? PETSC_TRUE : PETSC_FALSE));
   // same objects: marks the operator as changed so that KSPSetUp sets the
   // preconditioner up here rather than inside the next KSPSolve
   SUPERDEX_PETSC(KSPSetOperators(impl.ksp, impl.matrix, impl.matrix));
   SUPERDEX_PETSC(KSPSetUp(impl.ksp));
-  if (impl.isScaled) {
-    // the inner PC and its blocks' factorizations, here rather than in KSPSolve
-    SUPERDEX_PETSC(PCSetOperators(pc, impl.scaled.matrix, impl.scaled.matrix));
-    SUPERDEX_PETSC(PCSetUp(pc));
-    SUPERDEX_PETSC(PCSetUpOnBlocks(pc));
-  }
   PCFailedReason failed = PC_NOERROR;
   SUPERDEX_PETSC(PCGetFailedReason(pc, &failed));
   if (failed != PC_NOERROR) {
     // a failed set-up leaves the PC unusable: start its next set-up afresh
     PCReset(pc);
     // every PCFailedReason is a factorization breaking down inside the
-    // preconditioner (ICC, a block's ICC, an AMG coarse-grid or smoother
-    // factorization): what an indefinite matrix causes, and what Newton
+    // preconditioner (an AMG coarse-grid or smoother factorization): what an indefinite matrix causes, and what Newton
     // answers by projecting the element Hessians
     return Failure(LinearSolveStatus::NotPositiveDefinite,
                    "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) +
@@ -507,46 +487,6 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
       }
     }
   }
-  return {};
-}
-
-LinearSolveResult PetscPcgSolver::FillScaledMatrix(SparseSymmetricMatrix const& a) {
-  // S = diag(A)^-1/2 needs a positive diagonal, which every positive
-  // definite A has; PETSc's shift could not move the pivot of an empty row
-  // either (it is scaled by the row's off-diagonal sum)
-  Impl& impl = *impl_;
-  int const n = a.size;
-  PetscScalar* scale = nullptr;
-  SUPERDEX_PETSC(VecGetArrayWrite(impl.scaled.scale, &scale));
-  int badColumn = -1;
-  for (int j = 0; j < n && badColumn < 0; ++j) {
-    int const last = a.colStart[j + 1] - 1;  // the diagonal is last in its column
-    real const diagonal = last >= a.colStart[j] && a.rowIndex[last] == j ? a.values[last] : 0;
-    if (!(diagonal > 0) || !std::isfinite(diagonal))
-      badColumn = j;
-    else
-      scale[j] = 1 / std::sqrt(diagonal);
-  }
-  if (badColumn >= 0) {
-    VecRestoreArrayWrite(impl.scaled.scale, &scale);
-    LinearSolveResult result = Failure(
-        LinearSolveStatus::NotPositiveDefinite,
-        "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) +
-            ": the diagonal entry of column " + std::to_string(badColumn) +
-            " is not positive (the matrix is not positive definite)");
-    result.failingColumn = badColumn;
-    return result;
-  }
-  PetscScalar* values = nullptr;
-  SUPERDEX_PETSC(MatSeqAIJGetArrayWrite(impl.scaled.matrix, &values));
-  for (int j = 0; j < n; ++j)
-    for (int k = a.colStart[j]; k < a.colStart[j + 1]; ++k) {
-      real const value = a.values[k] * scale[a.rowIndex[k]] * scale[j];
-      values[impl.upperSlot[k]] = value;
-      if (impl.lowerSlot[k] >= 0) values[impl.lowerSlot[k]] = value;
-    }
-  SUPERDEX_PETSC(MatSeqAIJRestoreArrayWrite(impl.scaled.matrix, &values));
-  SUPERDEX_PETSC(VecRestoreArrayWrite(impl.scaled.scale, &scale));
   return {};
 }
 
@@ -588,7 +528,7 @@ LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
       PC pc = nullptr;
       PCFailedReason failed = PC_NOERROR;
       KSPGetPC(impl.ksp, &pc);
-      PCGetFailedReason(impl.isScaled ? impl.scaled.inner : pc, &failed);
+      PCGetFailedReason(pc, &failed);
       result.reason += std::string(" (PC_") + PCFailedReasons[failed] + ")";
     }
   }

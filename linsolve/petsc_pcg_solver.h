@@ -18,7 +18,9 @@
 // and the relative residual.
 //
 // Preconditioners (PcgPreconditioner): Jacobi; point-block Jacobi on A's DoF
-// blocks (PCVPBJACOBI); block Jacobi with ICC sub-blocks; ICC; GAMG with the
+// blocks (PCVPBJACOBI); block Jacobi with IC(k) blocks and IC(k), both
+// SuperDex's own IncompleteCholesky in a shell PC (incomplete_cholesky.h:
+// Jacobi-scaled, RCM order, bounded diagonal shifts); GAMG with the
 // near-null space the caller passes (SetNearNullSpace, orthonormalized
 // here), with the block size of the matrix set to the gcd of the DoF block
 // sizes (3 for nodes and rigid bodies); hypre BoomerAMG (strong threshold
@@ -28,7 +30,7 @@
 // kInvalidInput.
 //
 // Allocation: Analyze allocates the PETSc objects; the preconditioner set-up
-// allocates inside PETSc (AMG hierarchies, ICC factors), as CHOLMOD's
+// allocates inside PETSc (AMG hierarchies), as CHOLMOD's
 // factorization does; SuperDex's own code allocates nothing per iteration.
 #pragma once
 
@@ -38,6 +40,8 @@
 #include <superdex/linsolve/linear_solver.h>
 
 namespace superdex::internal {
+
+class IncompleteCholesky;
 
 class PetscPcgSolver final : public LinearSolver {
  public:
@@ -63,6 +67,8 @@ class PetscPcgSolver final : public LinearSolver {
   std::int64_t GetNumObjectBuilds() const override { return numObjectBuilds_; }
 
   PcgParams const& GetParams() const { return params_; }
+  /// Icc and BlockJacobi: the incomplete factor (after Analyze); else nullptr.
+  IncompleteCholesky const* GetIncompleteFactor() const;
 
  protected:
   LinearSolveResult DoAnalyze(SparseSymmetricMatrix const& a) override;
@@ -71,10 +77,6 @@ class PetscPcgSolver final : public LinearSolver {
   LinearSolveResult DoResume(Span<real const> b, Span<real> x) override;
 
  private:
-  /// Icc, BlockJacobi: the Jacobi-scaled matrix their factorization sees
-  /// (petsc_pcg_solver.cc, ScaledFactor); refuses a non-positive diagonal.
-  LinearSolveResult FillScaledMatrix(SparseSymmetricMatrix const& a);
-
   struct Impl;  // the PETSc objects (petsc_pcg_solver.cc)
 
   PcgParams params_;

@@ -17,6 +17,7 @@
 
 #include <superdex/linsolve/cholmod_solver.h>
 #include <superdex/linsolve/dense_solver.h>
+#include <superdex/linsolve/incomplete_cholesky.h>
 #include <superdex/linsolve/linear_solver.h>
 
 #include "allocation_recorder.h"
@@ -92,6 +93,28 @@ TEST_CASE("Factorize and Solve do not allocate", "[linsolve][allocation]") {
     if (!solver.IsSupernodal()) CHECK(factorize.total == 0);
     WARN("cholmod_factorize: " << factorize.total << " heap allocations per call, n = " << size
                                << ", " << solver.GetDescription());
+  }
+  SECTION("incomplete Cholesky (Icc, BlockJacobi): nothing at all, shifted retries included") {
+    // fill levels 1 and two groups; Kershaw-like trouble is not needed: a
+    // negative off-diagonal scaled up breaks the unshifted factorization
+    SparseSymmetricMatrix broken = a;
+    for (int j = 0; j < broken.size; ++j)
+      for (int k = broken.colStart[j]; k < broken.colStart[j + 1] - 1; ++k) broken.values[k] *= 3;
+    int const groups[] = {a.size / 2, a.size - a.size / 2};
+    internal::IncompleteCholesky factor;
+    REQUIRE(factor.Analyze(a, 1, groups).ok);
+    REQUIRE(factor.Factorize(a).ok);
+    internal::IncompleteCholesky::Result factored, shifted;
+    Allocations const factorize = CountAllocations([&] { factored = factor.Factorize(a); });
+    Allocations const apply = CountAllocations([&] { factor.Apply(b.data(), x.data()); });
+    Allocations const retries = CountAllocations([&] { shifted = factor.Factorize(broken); });
+    REQUIRE(factored.ok);
+    REQUIRE(shifted.ok);
+    CAPTURE(factor.GetNumGroupFactorizations());
+    REQUIRE(factor.GetNumGroupFactorizations() > 2);
+    CHECK(factorize.total == 0);
+    CHECK(apply.total == 0);
+    CHECK(retries.total == 0);
   }
 }
 

@@ -3,12 +3,15 @@
 // residual that judges a solution. Test-only code: allocation is fine here.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <map>
 #include <random>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <superdex/linsolve/sparse_symmetric_matrix.h>
 
@@ -115,6 +118,45 @@ inline SparseSymmetricMatrix InterleavedChains(int size) {
   for (int i = 0; i < size; ++i) {
     e.Add(i, i, 4);
     if (i + 2 < size) e.Add(i, i + 2, -1);
+  }
+  return e.ToMatrix();
+}
+
+/// The matrix of a file of "row col value" lines of the upper triangle after
+/// one comment line (tests/linsolve/data); size 0 when it cannot be read.
+inline SparseSymmetricMatrix ReadUpperTriangle(std::string const& path) {
+  std::ifstream in(path);
+  std::string comment;
+  if (!std::getline(in, comment)) return {};
+  struct Entry {
+    int row, col;
+    real value;
+  };
+  std::vector<Entry> entries;
+  int row = 0, col = 0, size = 0;
+  real value = 0;
+  while (in >> row >> col >> value) {
+    entries.push_back({row, col, value});
+    size = std::max(size, col + 1);
+  }
+  UpperEntries upper(size);
+  for (Entry const& entry : entries) upper.Add(entry.row, entry.col, entry.value);
+  return upper.ToMatrix();
+}
+
+/// Where a scrambled chain of 400 DoFs puts its i-th link (157 and 400 are
+/// coprime: a permutation).
+inline int ScrambledChainPosition(int i) { return (i * 157) % 400; }
+
+/// A tridiagonal chain of 400 DoFs (a rod, in effect: diagonal 2.001,
+/// couplings −1) with link i at column ScrambledChainPosition(i): no band in
+/// the given order, a band after reverse Cuthill–McKee.
+inline SparseSymmetricMatrix ScrambledChain() {
+  int const n = 400;
+  UpperEntries e(n);
+  for (int i = 0; i < n; ++i) {
+    e.Add(ScrambledChainPosition(i), ScrambledChainPosition(i), 2.001);
+    if (i + 1 < n) e.Add(ScrambledChainPosition(i), ScrambledChainPosition(i + 1), -1);
   }
   return e.ToMatrix();
 }

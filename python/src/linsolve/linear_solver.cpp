@@ -23,8 +23,9 @@ void DefineLinearSolver(py::module_& m) {
       .value("PointBlockJacobi", PcgPreconditioner::PointBlockJacobi,
              "inverse of each DoF block's diagonal block (PCVPBJACOBI)")
       .value("BlockJacobi", PcgPreconditioner::BlockJacobi,
-             "PCBJACOBI with block_jacobi_blocks blocks, each ICC(icc_levels)")
-      .value("Icc", PcgPreconditioner::Icc, "incomplete Cholesky ICC(icc_levels) (PCICC)")
+             "block Jacobi: block_jacobi_blocks blocks, each its own IC(icc_levels)")
+      .value("Icc", PcgPreconditioner::Icc,
+             "incomplete Cholesky IC(icc_levels), Jacobi-scaled, RCM order, bounded shifts")
       .value("Gamg", PcgPreconditioner::Gamg,
              "PETSc smoothed-aggregation AMG with the rigid-body near-null space")
       .value("BoomerAmg", PcgPreconditioner::BoomerAmg, "hypre BoomerAMG, if PETSc has hypre");
