@@ -376,12 +376,20 @@ void RodActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
   assembler.ParallelFor(numNodes - 2, internal::kElementGrain, [&](int begin, int end, int) {
     internal::Vector11 g11;
     internal::Matrix11 h11;
+    // stencil s couples elements s and s + 1: each element's frame
+    // derivatives are made once per chunk and serve both of its stencils
+    // (the same numbers in any chunking: the thread count changes nothing)
+    internal::RodFrameDerivatives frames[2];
+    auto makeFrame = [&](int e, internal::RodFrameDerivatives& frame) {
+      internal::MakeRodFrameDerivatives(Edge(e), state_.frames[e], state_.twist[e], frame);
+    };
+    if (begin < end) makeFrame(begin, frames[begin % 2]);
     for (int s = begin; s < end; ++s) {
       int const i = s + 1;  // the stencil's interior node
-      internal::RodBendTwistGradientHessian(stiffness_, stencilRest_[i - 1], Edge(i - 1), Edge(i),
-                                            state_.twist[i - 1], state_.twist[i], state_.frames[i - 1],
-                                            state_.frames[i], state_.referenceTwist[i - 1], g11, h11,
-                                            projectHessian);
+      makeFrame(i, frames[i % 2]);
+      internal::RodBendTwistGradientHessian(stiffness_, stencilRest_[i - 1], frames[(i - 1) % 2],
+                                            frames[i % 2], state_.twist[i - 1], state_.twist[i],
+                                            state_.referenceTwist[i - 1], g11, h11, projectHessian);
       assembler.AddGradient(firstStencil + s, g11);
       assembler.AddBlock(firstStencil + s, h11);
     }

@@ -195,27 +195,10 @@ Real33 ReferenceFrameRate(Real3 const& t, RodReferenceFrame const& ref) {
 // ∇²φ = (X ∇²Y − Y ∇²X − sym(∇φ, X ∇X + Y ∇Y))/r², r² = X² + Y².
 // The first sum is formed once, grouped by the vectors of each element.
 
-using Matrix4 = Eigen::Matrix<real, 4, 4>;
-using Matrix34 = Eigen::Matrix<real, 3, 4>;
 using Vector8 = Eigen::Matrix<real, 8, 1>;
 using Matrix8 = Eigen::Matrix<real, 8, 8>;
-
-/// A 3-vector function of one element's 4 variables (e, θ).
-struct VectorDerivatives {
-  Real3 value;
-  Matrix34 jacobian;               ///< ∂xₖ/∂(e, θ), row k
-  std::array<Matrix4, 3> hessian;  ///< ∂²xₖ/∂(e, θ)²
-
-  /// Σₖ wₖ ∇²xₖ
-  Matrix4 Contract(Real3 const& w) const {
-    return w[0] * hessian[0] + w[1] * hessian[1] + w[2] * hessian[2];
-  }
-};
-
-/// An element's frame vectors (v = t × u) with their derivatives.
-struct FrameDerivatives {
-  VectorDerivatives t, u, v, d1, d2;
-};
+using VectorDerivatives = RodVectorDerivatives;
+using FrameDerivatives = RodFrameDerivatives;
 
 /// The element's frame with derivatives w.r.t. its own variables (e, θ) in
 /// closed form; the same function as MakeFrame.
@@ -226,7 +209,8 @@ struct FrameDerivatives {
 /// vₖ = (t × u)ₖ = t·(u⁰ × eₖ) − s t·(t⁰ × eₖ) (t × t = 0), products of s with
 /// such t·c. θ enters through d₁ = cos θ u + sin θ v, d₂ = −sin θ u + cos θ v:
 /// ∂d₁/∂θ = d₂, ∂d₂/∂θ = −d₁.
-FrameDerivatives MakeFrameDerivatives(Real3 const& edge, RodReferenceFrame const& ref, real theta) {
+void MakeFrameDerivatives(Real3 const& edge, RodReferenceFrame const& ref, real theta,
+                          FrameDerivatives& f) {
   real const inverseLength = 1 / edge.norm();
   real const inverseLengthSquared = inverseLength * inverseLength;
   Real3 const t = edge * inverseLength;
@@ -245,7 +229,6 @@ FrameDerivatives MakeFrameDerivatives(Real3 const& edge, RodReferenceFrame const
   Real33 const sb = sGradient * betaGradient.transpose();
   Real33 const sHessian = (hessianOf(q) - sb - sb.transpose()) / beta;
 
-  FrameDerivatives f;
   f.t.value = t;
   f.u.value = ref.director - s * (ref.tangent + t);
   f.v.value = t.cross(f.u.value);
@@ -293,7 +276,6 @@ FrameDerivatives MakeFrameDerivatives(Real3 const& edge, RodReferenceFrame const
                            cosine * f.v.hessian[k].topLeftCorner<3, 3>(),
         -d1Gradient, -d1Gradient.transpose(), -f.d2.value[k];
   }
-  return f;
 }
 
 /// ∇(x·y) = [J_xᵀ y; J_yᵀ x] for x of element a and y of element b.
@@ -406,12 +388,25 @@ real RodBendTwistEnergy(RodStiffness const& k, RodStencilRest const& rest, Real3
       k, rest, StencilStrain(ToVec3<real>(edgeA), ToVec3<real>(edgeB), thetaA, thetaB, refA, refB, refTwistStart));
 }
 
+void MakeRodFrameDerivatives(Real3 const& edge, RodReferenceFrame const& ref, real theta,
+                             RodFrameDerivatives& frame) {
+  MakeFrameDerivatives(edge, ref, theta, frame);
+}
+
 void RodBendTwistGradientHessian(RodStiffness const& k, RodStencilRest const& rest, Real3 const& edgeA,
                                  Real3 const& edgeB, real thetaA, real thetaB, RodReferenceFrame const& refA,
                                  RodReferenceFrame const& refB, real refTwistStart, Vector11& gradient,
                                  Matrix11& hessian, bool project) {
-  FrameDerivatives const a = MakeFrameDerivatives(edgeA, refA, thetaA);
-  FrameDerivatives const b = MakeFrameDerivatives(edgeB, refB, thetaB);
+  FrameDerivatives a, b;
+  MakeFrameDerivatives(edgeA, refA, thetaA, a);
+  MakeFrameDerivatives(edgeB, refB, thetaB, b);
+  RodBendTwistGradientHessian(k, rest, a, b, thetaA, thetaB, refTwistStart, gradient, hessian, project);
+}
+
+void RodBendTwistGradientHessian(RodStiffness const& k, RodStencilRest const& rest,
+                                 RodFrameDerivatives const& a, RodFrameDerivatives const& b,
+                                 real thetaA, real thetaB, real refTwistStart, Vector11& gradient,
+                                 Matrix11& hessian, bool project) {
 
   // bending: κ₁ = N₁/c, κ₂ = N₂/c, ∇κ = (∇N − κ ∇c)/c
   real const c = 1 + a.t.value.dot(b.t.value);

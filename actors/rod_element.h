@@ -66,6 +66,8 @@ using Matrix6 = Eigen::Matrix<real, 6, 6>;
 using Vector11 = Eigen::Matrix<real, 11, 1>;
 using Matrix11 = Eigen::Matrix<real, 11, 11>;
 using Matrix38 = Eigen::Matrix<real, 3, 8>;
+using Matrix4 = Eigen::Matrix<real, 4, 4>;
+using Matrix34 = Eigen::Matrix<real, 3, 4>;
 
 /// Section stiffnesses [N, N·m², N·m², N·m²].
 struct RodStiffness {
@@ -132,6 +134,39 @@ real RodBendTwistEnergy(RodStiffness const& k, RodStencilRest const& rest, Real3
 void RodBendTwistGradientHessian(RodStiffness const& k, RodStencilRest const& rest, Real3 const& edgeA,
                                  Real3 const& edgeB, real thetaA, real thetaB, RodReferenceFrame const& refA,
                                  RodReferenceFrame const& refB, real refTwistStart, Vector11& gradient,
+                                 Matrix11& hessian, bool project);
+
+/// A 3-vector function of one element's 4 variables (e, θ) with its first
+/// and second derivatives.
+struct RodVectorDerivatives {
+  Real3 value;
+  Matrix34 jacobian;               ///< ∂xₖ/∂(e, θ), row k
+  std::array<Matrix4, 3> hessian;  ///< ∂²xₖ/∂(e, θ)²
+
+  /// Σₖ wₖ ∇²xₖ
+  Matrix4 Contract(Real3 const& w) const {
+    return w[0] * hessian[0] + w[1] * hessian[1] + w[2] * hessian[2];
+  }
+};
+
+/// An element's frame vectors t, u, v = t × u, d₁, d₂ with their derivatives
+/// w.r.t. the element's own (e, θ): all that a bending–twisting stencil needs
+/// of each of its two elements.
+struct RodFrameDerivatives {
+  RodVectorDerivatives t, u, v, d1, d2;
+};
+
+/// The frame derivatives of the element with edge `edge`, reference frame
+/// `ref` and twist θ, in closed form. An interior element belongs to two
+/// stencils; a caller walking a rod's stencils in order computes it once.
+void MakeRodFrameDerivatives(Real3 const& edge, RodReferenceFrame const& ref, real theta,
+                             RodFrameDerivatives& frame);
+
+/// RodBendTwistGradientHessian from the two elements' frame derivatives
+/// (MakeRodFrameDerivatives); the same numbers, bit for bit.
+void RodBendTwistGradientHessian(RodStiffness const& k, RodStencilRest const& rest,
+                                 RodFrameDerivatives const& a, RodFrameDerivatives const& b,
+                                 real thetaA, real thetaB, real refTwistStart, Vector11& gradient,
                                  Matrix11& hessian, bool project);
 
 /// The reference implementation of RodBendTwistGradientHessian, the same
