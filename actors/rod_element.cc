@@ -197,6 +197,7 @@ Real33 ReferenceFrameRate(Real3 const& t, RodReferenceFrame const& ref) {
 
 using Vector8 = Eigen::Matrix<real, 8, 1>;
 using Matrix8 = Eigen::Matrix<real, 8, 8>;
+using VectorJacobian = RodVectorJacobian;
 using VectorDerivatives = RodVectorDerivatives;
 using FrameDerivatives = RodFrameDerivatives;
 
@@ -260,26 +261,33 @@ void MakeFrameDerivatives(Real3 const& edge, RodReferenceFrame const& ref, real 
   }
   // d₁ = cos θ u + sin θ v, d₂ = −sin θ u + cos θ v
   real const cosine = std::cos(theta), sine = std::sin(theta);
+  f.cosine = cosine, f.sine = sine;
   f.d1.value = cosine * f.u.value + sine * f.v.value;
   f.d2.value = -sine * f.u.value + cosine * f.v.value;
   f.d1.jacobian << cosine * f.u.jacobian.leftCols<3>() + sine * f.v.jacobian.leftCols<3>(),
       f.d2.value;
   f.d2.jacobian << -sine * f.u.jacobian.leftCols<3>() + cosine * f.v.jacobian.leftCols<3>(),
       -f.d1.value;
-  for (int k = 0; k < 3; ++k) {
-    Real3 const d1Gradient = f.d1.jacobian.row(k).head<3>().transpose();
-    Real3 const d2Gradient = f.d2.jacobian.row(k).head<3>().transpose();
-    f.d1.hessian[k] << cosine * f.u.hessian[k].topLeftCorner<3, 3>() +
-                           sine * f.v.hessian[k].topLeftCorner<3, 3>(),
-        d2Gradient, d2Gradient.transpose(), -f.d1.value[k];
-    f.d2.hessian[k] << -sine * f.u.hessian[k].topLeftCorner<3, 3>() +
-                           cosine * f.v.hessian[k].topLeftCorner<3, 3>(),
-        -d1Gradient, -d1Gradient.transpose(), -f.d2.value[k];
-  }
+}
+
+/// Σₖ (w₁ₖ ∇²d₁ₖ + w₂ₖ ∇²d₂ₖ) from u's and v's second derivatives: with
+/// ∂²d₁/∂e² = cos θ ∂²u + sin θ ∂²v, ∂²d₁/∂e∂θ = ∂d₂/∂e, ∂²d₁/∂θ² = −d₁ and
+/// ∂²d₂/∂e² = −sin θ ∂²u + cos θ ∂²v, ∂²d₂/∂e∂θ = −∂d₁/∂e, ∂²d₂/∂θ² = −d₂,
+/// added to the element's u and v weights (`uWeight`, `vWeight`, contracted
+/// by the caller) and to `block`'s θ row and column.
+void AddDirectorContraction(FrameDerivatives const& f, Real3 const& w1, Real3 const& w2,
+                            Real3& uWeight, Real3& vWeight, Matrix4& block) {
+  uWeight += f.cosine * w1 - f.sine * w2;
+  vWeight += f.sine * w1 + f.cosine * w2;
+  Real3 const mixed = f.d2.jacobian.leftCols<3>().transpose() * w1 -
+                      f.d1.jacobian.leftCols<3>().transpose() * w2;
+  block.col(3).head<3>() += mixed;
+  block.row(3).head<3>() += mixed.transpose();
+  block(3, 3) -= w1.dot(f.d1.value) + w2.dot(f.d2.value);
 }
 
 /// ∇(x·y) = [J_xᵀ y; J_yᵀ x] for x of element a and y of element b.
-Vector8 CrossGradient(VectorDerivatives const& x, VectorDerivatives const& y) {
+Vector8 CrossGradient(VectorJacobian const& x, VectorJacobian const& y) {
   Vector8 g;
   g << x.jacobian.transpose() * y.value, y.jacobian.transpose() * x.value;
   return g;
@@ -453,15 +461,18 @@ void RodBendTwistGradientHessian(RodStiffness const& k, RodStencilRest const& re
   real const wTU = -force3 * phiX * s, wTV = force3 * phiY * s;  // tₐ·u_b, tₐ·v_b
   real const wUU = force3 * phiX, wUV = -force3 * phiY;          // uₐ·u_b, uₐ·v_b
   Matrix8 h8;
+  // (the directors' second derivatives through u's and v's: AddDirectorContraction)
+  Matrix4 blockA = Matrix4::Zero(), blockB = Matrix4::Zero();
+  Real3 uWeightA = wP * b.t.value + wUU * b.u.value + wUV * b.v.value, vWeightA = Real3::Zero();
+  AddDirectorContraction(a, wN2 * b.t.value, -wN1 * b.t.value, uWeightA, vWeightA, blockA);
+  Real3 uWeightB = wTU * a.t.value + wUU * a.u.value, vWeightB = wTV * a.t.value + wUV * a.u.value;
+  AddDirectorContraction(b, -wN2 * a.t.value, wN1 * a.t.value, uWeightB, vWeightB, blockB);
   h8.topLeftCorner<4, 4>() = a.t.Contract(wC * b.t.value + wN1 * b.d2.value - wN2 * b.d1.value +
                                           wTU * b.u.value + wTV * b.v.value) +
-                             a.u.Contract(wP * b.t.value + wUU * b.u.value + wUV * b.v.value) +
-                             a.d1.Contract(wN2 * b.t.value) - a.d2.Contract(wN1 * b.t.value);
+                             a.u.Contract(uWeightA) + a.v.Contract(vWeightA) + blockA;
   h8.bottomRightCorner<4, 4>() =
       b.t.Contract(wC * a.t.value - wN1 * a.d2.value + wN2 * a.d1.value + wP * a.u.value) +
-      b.u.Contract(wTU * a.t.value + wUU * a.u.value) +
-      b.v.Contract(wTV * a.t.value + wUV * a.u.value) + b.d2.Contract(wN1 * a.t.value) -
-      b.d1.Contract(wN2 * a.t.value);
+      b.u.Contract(uWeightB) + b.v.Contract(vWeightB) + blockB;
   Matrix34 const partnerOfT = wC * b.t.jacobian + wN1 * b.d2.jacobian - wN2 * b.d1.jacobian +
                               wTU * b.u.jacobian + wTV * b.v.jacobian;
   Matrix34 const partnerOfU = wP * b.t.jacobian + wUU * b.u.jacobian + wUV * b.v.jacobian;

@@ -137,10 +137,14 @@ void RodBendTwistGradientHessian(RodStiffness const& k, RodStencilRest const& re
                                  Matrix11& hessian, bool project);
 
 /// A 3-vector function of one element's 4 variables (e, θ) with its first
-/// and second derivatives.
-struct RodVectorDerivatives {
+/// derivatives.
+struct RodVectorJacobian {
   Real3 value;
-  Matrix34 jacobian;               ///< ∂xₖ/∂(e, θ), row k
+  Matrix34 jacobian;  ///< ∂xₖ/∂(e, θ), row k
+};
+
+/// ... and its second derivatives.
+struct RodVectorDerivatives : RodVectorJacobian {
   std::array<Matrix4, 3> hessian;  ///< ∂²xₖ/∂(e, θ)²
 
   /// Σₖ wₖ ∇²xₖ
@@ -151,9 +155,14 @@ struct RodVectorDerivatives {
 
 /// An element's frame vectors t, u, v = t × u, d₁, d₂ with their derivatives
 /// w.r.t. the element's own (e, θ): all that a bending–twisting stencil needs
-/// of each of its two elements.
+/// of each of its two elements. The second derivatives of d₁ = cos θ u +
+/// sin θ v and d₂ = −sin θ u + cos θ v are not stored: they follow from u's,
+/// v's and the first derivatives (RodBendTwistGradientHessian contracts them
+/// that way).
 struct RodFrameDerivatives {
-  RodVectorDerivatives t, u, v, d1, d2;
+  RodVectorDerivatives t, u, v;
+  RodVectorJacobian d1, d2;
+  real cosine = 1, sine = 0;  ///< of θ
 };
 
 /// The frame derivatives of the element with edge `edge`, reference frame
