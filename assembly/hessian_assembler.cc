@@ -135,6 +135,8 @@ void HessianAssembler::PrepareStaging() {
     // release what a staged configuration held
     DynamicArray<real>().swap(valueStage_);
     DynamicArray<real>().swap(gradientStage_);
+    DynamicArray<std::uint32_t>().swap(blockStamp_);
+    DynamicArray<std::uint32_t>().swap(gradientStamp_);
     DynamicArray<int>().swap(valueSourceStart_);
     DynamicArray<int>().swap(valueSources_);
     DynamicArray<int>().swap(gradientSourceStart_);
@@ -143,6 +145,9 @@ void HessianAssembler::PrepareStaging() {
   }
   valueStage_.assign(slots_.size(), 0);
   gradientStage_.assign(dofs_.size(), 0);
+  blockStamp_.assign(slotStart_.size(), 0);
+  gradientStamp_.assign(slotStart_.size(), 0);
+  stamp_ = 0;
   InvertMap(slots_, static_cast<int>(matrix_.values.size()), valueSourceStart_, valueSources_);
   InvertMap(dofs_, matrix_.size, gradientSourceStart_, gradientSources_);
 }
@@ -154,16 +159,29 @@ void HessianAssembler::BeginAssembly(Span<real> gradient) {
     ZeroValues();
     return;
   }
-  // FinishAssembly overwrites values and gradient: only the stages are zeroed
-  auto zero = [](DynamicArray<real>& stage) {
-    return [&stage](int begin, int end, int) { std::fill(stage.begin() + begin, stage.begin() + end, real(0)); };
-  };
-  executor_->For(static_cast<int>(valueStage_.size()), kEntryGrain, zero(valueStage_));
-  executor_->For(static_cast<int>(gradientStage_.size()), kEntryGrain, zero(gradientStage_));
+  // FinishAssembly overwrites values and gradient; the stages are assigned
+  // by each contributor's first write (AddBlock, AddGradient): a new stamp
+  if (++stamp_ == 0) {  // wrapped: no stamp of an earlier assembly may match
+    std::fill(blockStamp_.begin(), blockStamp_.end(), 0u);
+    std::fill(gradientStamp_.begin(), gradientStamp_.end(), 0u);
+    stamp_ = 1;
+  }
 }
 
 void HessianAssembler::FinishAssembly() {
   if (!staged_) return;
+  // contributors that added nothing in this assembly contribute zeros
+  int const numContributors = GetNumContributors();
+  executor_->For(numContributors, kEntryGrain, [this](int begin, int end, int) {
+    for (int c = begin; c < end; ++c) {
+      if (blockStamp_[c] != stamp_) {
+        int const n = dofStart_[c + 1] - dofStart_[c];
+        std::fill_n(valueStage_.begin() + slotStart_[c], n * (n + 1) / 2, real(0));
+      }
+      if (gradientStamp_[c] != stamp_)
+        std::fill(gradientStage_.begin() + dofStart_[c], gradientStage_.begin() + dofStart_[c + 1], real(0));
+    }
+  });
   // every entry: 0 + its contributions in contributor order, as the serial
   // assembly adds them
   auto sum = [](DynamicArray<int> const& start, DynamicArray<int> const& sources, DynamicArray<real> const& stage,

@@ -88,8 +88,14 @@ class HessianAssembler {
   void AddGradient(int c, Eigen::MatrixBase<Derived> const& g) {
     int const first = dofStart_[c], n = dofStart_[c + 1] - first;
     if (staged_) {
+      // the first write of this assembly assigns (the stage is not zeroed)
       real* out = gradientStage_.data() + first;
-      for (int a = 0; a < n; ++a) out[a] += g[a];
+      if (gradientStamp_[c] != stamp_) {
+        gradientStamp_[c] = stamp_;
+        for (int a = 0; a < n; ++a) out[a] = g[a];
+      } else {
+        for (int a = 0; a < n; ++a) out[a] += g[a];
+      }
     } else {
       int const* dofs = dofs_.data() + first;
       for (int a = 0; a < n; ++a) gradient_[dofs[a]] += g[a];
@@ -104,8 +110,14 @@ class HessianAssembler {
     int const* slot = slots_.data() + slotStart_[c];
     if (staged_) {
       real* out = valueStage_.data() + slotStart_[c];
-      for (int a = 0; a < n; ++a)
-        for (int b = a; b < n; ++b) *out++ += h(a, b);
+      if (blockStamp_[c] != stamp_) {
+        blockStamp_[c] = stamp_;
+        for (int a = 0; a < n; ++a)
+          for (int b = a; b < n; ++b) *out++ = h(a, b);
+      } else {
+        for (int a = 0; a < n; ++a)
+          for (int b = a; b < n; ++b) *out++ += h(a, b);
+      }
     } else {
       real* values = matrix_.values.data();
       for (int a = 0; a < n; ++a)
@@ -139,6 +151,12 @@ class HessianAssembler {
   bool staged_ = false;
   DynamicArray<real> valueStage_;     ///< per slot (slots_ order)
   DynamicArray<real> gradientStage_;  ///< per contributor DoF (dofs_ order)
+  /// The stages are not zeroed per assembly: a contributor's first AddBlock
+  /// (AddGradient) of an assembly assigns its slots and stamps it; at
+  /// FinishAssembly the slots of contributors without this assembly's stamp
+  /// are zeroed (those that added nothing), before the sums
+  DynamicArray<std::uint32_t> blockStamp_, gradientStamp_;
+  std::uint32_t stamp_ = 0;
   DynamicArray<int> valueSourceStart_, valueSources_;        ///< value index → slot positions, ascending
   DynamicArray<int> gradientSourceStart_, gradientSources_;  ///< DoF → dofs_ positions, ascending
 };
