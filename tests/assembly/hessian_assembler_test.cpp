@@ -40,3 +40,50 @@ TEST_CASE("a diagonal shift changes only the diagonal, by the given fraction of 
     }
   CHECK(diagonals == 6);
 }
+
+TEST_CASE("staged assembly: a contributor that adds nothing contributes zeros, a second add sums",
+          "[assembly][parallel]") {
+  // the stages are not zeroed between assemblies (each contributor's first
+  // write assigns): what a contributor wrote in an earlier assembly must not
+  // come back when it adds nothing, and a second AddBlock in one assembly adds
+  DynamicArray<int> const blockSizes{3, 3, 3};
+  DynamicArray<DynamicArray<int>> const contributors{{0, 1, 2}, {3, 4, 5, 0, 1, 2}, {6, 7, 8, 3, 4, 5}};
+  internal::ParallelExecutor executor;
+  executor.SetNumThreads(2);
+  auto assemble = [&](internal::HessianAssembler& assembler, bool second, bool twice,
+                      DynamicArray<real>& gradient) {
+    gradient.assign(9, 0);
+    assembler.BeginAssembly(gradient);
+    for (int c = 0; c < 3; ++c) {
+      if (c == 1 && !second) continue;
+      int const n = static_cast<int>(contributors[c].size());
+      MatrixX block = MatrixX::Constant(n, n, 1.0 + c);
+      VectorX g = VectorX::Constant(n, 10.0 + c);
+      assembler.AddBlock(c, block);
+      assembler.AddGradient(c, g);
+      if (c == 2 && twice) {
+        assembler.AddBlock(c, block);
+        assembler.AddGradient(c, g);
+      }
+    }
+    assembler.FinishAssembly();
+    return assembler.GetMatrix().values;
+  };
+  Error error;
+  internal::HessianAssembler serial, staged;
+  REQUIRE(serial.Analyze(9, blockSizes, contributors, OrderingMethod::Metis, error));
+  REQUIRE(staged.Analyze(9, blockSizes, contributors, OrderingMethod::Metis, error));
+  staged.SetExecutor(&executor);
+  REQUIRE(staged.IsStaged());
+  DynamicArray<real> gradientSerial, gradientStaged;
+  for (auto [second, twice] : {std::pair{true, false}, {false, false}, {true, true}, {false, true}}) {
+    CAPTURE(second, twice);
+    DynamicArray<real> const expected = assemble(serial, second, twice, gradientSerial);
+    DynamicArray<real> const values = assemble(staged, second, twice, gradientStaged);
+    CHECK(values == expected);
+    CHECK(gradientStaged == gradientSerial);
+  }
+  // contributor 1 left out last: DoF 0's gradient is contributor 0's 10
+  // alone, without contributor 1's 11 of the assemblies before
+  CHECK(gradientStaged[0] == 10);
+}
