@@ -210,8 +210,10 @@ using FrameDerivatives = RodFrameDerivatives;
 /// vₖ = (t × u)ₖ = t·(u⁰ × eₖ) − s t·(t⁰ × eₖ) (t × t = 0), products of s with
 /// such t·c. θ enters through d₁ = cos θ u + sin θ v, d₂ = −sin θ u + cos θ v:
 /// ∂d₁/∂θ = d₂, ∂d₂/∂θ = −d₁.
-void MakeFrameDerivatives(Real3 const& edge, RodReferenceFrame const& ref, real theta,
-                          FrameDerivatives& f) {
+}  // namespace
+
+void MakeRodFrameDerivatives(Real3 const& edge, RodReferenceFrame const& ref, real theta,
+                             RodFrameDerivatives& f) {
   real const inverseLength = 1 / edge.norm();
   real const inverseLengthSquared = inverseLength * inverseLength;
   Real3 const t = edge * inverseLength;
@@ -269,6 +271,8 @@ void MakeFrameDerivatives(Real3 const& edge, RodReferenceFrame const& ref, real 
   f.d2.jacobian << -sine * f.u.jacobian.leftCols<3>() + cosine * f.v.jacobian.leftCols<3>(),
       -f.d1.value;
 }
+
+namespace {
 
 /// Σₖ (w₁ₖ ∇²d₁ₖ + w₂ₖ ∇²d₂ₖ) from u's and v's second derivatives: with
 /// ∂²d₁/∂e² = cos θ ∂²u + sin θ ∂²v, ∂²d₁/∂e∂θ = ∂d₂/∂e, ∂²d₁/∂θ² = −d₁ and
@@ -396,18 +400,13 @@ real RodBendTwistEnergy(RodStiffness const& k, RodStencilRest const& rest, Real3
       k, rest, StencilStrain(ToVec3<real>(edgeA), ToVec3<real>(edgeB), thetaA, thetaB, refA, refB, refTwistStart));
 }
 
-void MakeRodFrameDerivatives(Real3 const& edge, RodReferenceFrame const& ref, real theta,
-                             RodFrameDerivatives& frame) {
-  MakeFrameDerivatives(edge, ref, theta, frame);
-}
-
 void RodBendTwistGradientHessian(RodStiffness const& k, RodStencilRest const& rest, Real3 const& edgeA,
                                  Real3 const& edgeB, real thetaA, real thetaB, RodReferenceFrame const& refA,
                                  RodReferenceFrame const& refB, real refTwistStart, Vector11& gradient,
                                  Matrix11& hessian, bool project) {
   FrameDerivatives a, b;
-  MakeFrameDerivatives(edgeA, refA, thetaA, a);
-  MakeFrameDerivatives(edgeB, refB, thetaB, b);
+  MakeRodFrameDerivatives(edgeA, refA, thetaA, a);
+  MakeRodFrameDerivatives(edgeB, refB, thetaB, b);
   RodBendTwistGradientHessian(k, rest, a, b, thetaA, thetaB, refTwistStart, gradient, hessian, project);
 }
 
