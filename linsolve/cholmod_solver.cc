@@ -8,6 +8,7 @@
 #include <cholmod.h>
 
 #include <superdex/core/blas_info.h>
+#include <superdex/linsolve/single_precision_factor.h>
 
 namespace superdex::internal {
 
@@ -20,6 +21,11 @@ struct CholmodSolver::Impl {
   cholmod_dense* workY = nullptr;
   cholmod_dense* workE = nullptr;
   std::vector<double> permuted;  ///< simplicial solves: P b, then the solution in L's order
+  // supernodal: L rounded to float for reduced-precision preconditioner
+  // applications, made at the first one after each Factorize (a factor only
+  // used for Solve never pays for the copy)
+  SinglePrecisionFactor single;
+  bool singleStale = true;  ///< no Assign tried since the last Factorize
   // A simplicial factor in a permuted order is analyzed on the permuted
   // matrix S = triu(P A Pᵀ) itself (the order folded in): cholmod_factorize
   // then reads S as it is, where with L->Perm it would transpose A twice per
@@ -241,6 +247,11 @@ std::string CholmodSolver::GetDescription() const {
   return text;
 }
 
+void CholmodSolver::SetParallelExecutor(ParallelExecutor const* executor) {
+  impl_->single.SetExecutor(executor);
+  impl_->singleStale = true;  // the next copy sizes a workspace per thread
+}
+
 bool CholmodSolver::IsSupernodal() const {
   return impl_->factor != nullptr && impl_->factor->is_super;
 }
@@ -402,6 +413,7 @@ LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   // cholmod_factorize returns TRUE on a matrix that is not positive
   // definite: the failure is in Common->status, and L->minor is the first
   // failing column of L, in L's (postordered) order
+  impl.singleStale = true;
   cholmod_factor const& factor = *impl.factor;
   auto const* perm = impl.folded ? impl.order.data() : static_cast<int const*>(factor.Perm);
   auto const toCallerColumn = [perm](int k) { return perm != nullptr ? perm[k] : k; };
@@ -430,6 +442,35 @@ LinearSolveResult CholmodSolver::DoFactorize(SparseSymmetricMatrix const& a) {
     return result;
   }
   return {};
+}
+
+bool CholmodSolver::UsesSinglePrecisionPreconditioner() {
+  Impl& impl = *impl_;
+  if (impl.factor == nullptr || !impl.factor->is_super || !IsFactorized()) return false;
+  if (impl.singleStale) {
+    cholmod_factor const& factor = *impl.factor;
+    SupernodalLayout layout;
+    layout.size = static_cast<int>(factor.n);
+    layout.numSupernodes = static_cast<int>(factor.nsuper);
+    layout.super = static_cast<int const*>(factor.super);
+    layout.rowStart = static_cast<int const*>(factor.pi);
+    layout.valueStart = static_cast<int const*>(factor.px);
+    layout.rows = static_cast<int const*>(factor.s);
+    layout.permutation = factor.ordering != CHOLMOD_NATURAL ? static_cast<int const*>(factor.Perm) : nullptr;
+    layout.numValues = factor.xsize;
+    impl.single.Assign(layout, static_cast<double const*>(factor.x));
+    impl.singleStale = false;
+  }
+  return impl.single.IsAssigned();
+}
+
+LinearSolveResult CholmodSolver::DoApplyPreconditioner(Span<real const> b, Span<real> x,
+                                                       bool reducedPrecision) {
+  if (!reducedPrecision || !UsesSinglePrecisionPreconditioner()) return DoSolve(b, x);
+  impl_->single.Solve(b.data(), x.data());
+  LinearSolveResult result;
+  result.reducedPrecision = true;
+  return result;
 }
 
 LinearSolveResult CholmodSolver::DoSolve(Span<real const> b, Span<real> x) {

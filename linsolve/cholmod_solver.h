@@ -70,6 +70,8 @@ class CholmodSolver final : public LinearSolver {
   /// E.g. "CHOLMOD 3.0.14 supernodal LL', ordering natural+postorder"; before
   /// Analyze only the version and "not analyzed".
   std::string GetDescription() const override;
+  /// The single-precision preconditioner solve runs on these threads.
+  void SetParallelExecutor(ParallelExecutor const* executor) override;
   /// Nonzeros of L from CHOLMOD's analysis (Common->lnz), without the explicit
   /// zeros that supernode amalgamation adds; -1 before Analyze.
   double GetFactorNonzeros() const override;
@@ -88,11 +90,21 @@ class CholmodSolver final : public LinearSolver {
   /// is the k-th column of L (L->Perm). Empty before Analyze. For tests and
   /// diagnostics; allocates.
   DynamicArray<int> GetFactorPermutation() const;
+  /// Whether ApplyPreconditioner with reducedPrecision uses a single-precision
+  /// copy of the current factorization's L (SinglePrecisionFactor): only for
+  /// a supernodal factor whose values fit a float and whose diagonal spread
+  /// is below SinglePrecisionFactor::kMaxDiagonalSpread. Makes the copy if
+  /// this factorization has none yet (once per Factorize); false before one.
+  bool UsesSinglePrecisionPreconditioner();
 
  protected:
   LinearSolveResult DoAnalyze(SparseSymmetricMatrix const& a) override;
   LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) override;
   LinearSolveResult DoSolve(Span<real const> b, Span<real> x) override;
+  /// reducedPrecision and a usable single-precision copy: its solve;
+  /// otherwise DoSolve.
+  LinearSolveResult DoApplyPreconditioner(Span<real const> b, Span<real> x,
+                                          bool reducedPrecision) override;
 
  private:
   /// After a simplicial analysis in a permuted order: analyzes the permuted

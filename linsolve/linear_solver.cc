@@ -195,14 +195,22 @@ LinearSolveResult LinearSolver::Factorize(SparseSymmetricMatrix const& a) {
 }
 
 LinearSolveResult LinearSolver::Solve(Span<real const> b, Span<real> x) {
-  return CheckedSolve(b, x, false);
+  return CheckedSolve(b, x, SolveKind::Solve);
 }
 
 LinearSolveResult LinearSolver::Resume(Span<real const> b, Span<real> x) {
-  return CheckedSolve(b, x, true);
+  return CheckedSolve(b, x, SolveKind::Resume);
 }
 
-LinearSolveResult LinearSolver::CheckedSolve(Span<real const> b, Span<real> x, bool resume) {
+LinearSolveResult LinearSolver::ApplyPreconditioner(Span<real const> b, Span<real> x,
+                                                    bool reducedPrecision) {
+  return CheckedSolve(b, x,
+                      reducedPrecision ? SolveKind::ReducedPrecisionPreconditioner
+                                       : SolveKind::Preconditioner);
+}
+
+LinearSolveResult LinearSolver::CheckedSolve(Span<real const> b, Span<real> x, SolveKind kind) {
+  bool const resume = kind == SolveKind::Resume;
   if (!factorized_) {
     return MakeFailure(LinearSolveStatus::InvalidState,
                        analyzed_
@@ -240,7 +248,19 @@ LinearSolveResult LinearSolver::CheckedSolve(Span<real const> b, Span<real> x, b
                          "Resume: x[" + std::to_string(i) + "] is not finite: " + FormatReal(x[i]));
     }
   }
-  LinearSolveResult result = resume ? DoResume(b, x) : DoSolve(b, x);
+  LinearSolveResult result;
+  switch (kind) {
+    case SolveKind::Solve:
+      result = DoSolve(b, x);
+      break;
+    case SolveKind::Resume:
+      result = DoResume(b, x);
+      break;
+    case SolveKind::Preconditioner:
+    case SolveKind::ReducedPrecisionPreconditioner:
+      result = DoApplyPreconditioner(b, x, kind == SolveKind::ReducedPrecisionPreconditioner);
+      break;
+  }
   if (!result.Ok() && !result.truncated) return result;
   // a finite, positive definite factor can still overflow on a nearly
   // singular matrix; report it rather than hand back inf or NaN

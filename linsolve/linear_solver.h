@@ -24,6 +24,10 @@
 
 namespace superdex {
 
+namespace internal {
+class ParallelExecutor;
+}
+
 enum class LinearSolverType {
   Auto,      ///< dense up to DenseSolverMaxSize unknowns, CHOLMOD above
   Cholmod,   ///< SuiteSparse CHOLMOD supernodal Cholesky
@@ -130,6 +134,8 @@ struct LinearSolveResult {
   /// kNotConverged at the iteration cap (nothing else went wrong): x holds
   /// the last iterate, finite, which Newton may take as an inexact step
   bool truncated = false;
+  /// ApplyPreconditioner: the factor was applied in reduced precision
+  bool reducedPrecision = false;
   std::string reason;          ///< human-readable cause when status != kOk
 
   bool Ok() const { return status == LinearSolveStatus::Ok; }
@@ -166,6 +172,16 @@ class LinearSolver {
   /// and the tolerance counted afresh against b; direct backends solve anew.
   /// Same checks and results as Solve.
   LinearSolveResult Resume(Span<real const> b, Span<real> x);
+  /// x = M⁻¹ b for M the preconditioner that the last factorization gives, for
+  /// conjugate gradients preconditioned by an earlier factorization
+  /// (ReusedFactorCg). With `reducedPrecision` a backend may apply its factor
+  /// rounded to a lower precision, where that is faster and safe: M is then
+  /// the factorized matrix up to that rounding, still symmetric positive
+  /// definite (CHOLMOD supernodal: L in single precision,
+  /// SinglePrecisionFactor; docs/linear_solvers.md "Reused factorizations").
+  /// Otherwise, and for every backend without such a copy, this is Solve.
+  /// Same checks and results as Solve.
+  LinearSolveResult ApplyPreconditioner(Span<real const> b, Span<real> x, bool reducedPrecision);
 
   bool IsAnalyzed() const { return analyzed_; }
   /// True when Solve can run: a Factorize succeeded since the last Analyze.
@@ -188,6 +204,11 @@ class LinearSolver {
   /// How many times the backend created its external objects (PETSc Mat and
   /// KSP) since construction: once per Analyze for PETSc, 0 for the others.
   virtual std::int64_t GetNumObjectBuilds() const { return 0; }
+  /// Threads the backend may run its own loops on (CHOLMOD: the
+  /// single-precision preconditioner solve, SinglePrecisionFactor); nullptr
+  /// (the default) runs them on the calling thread. The executor must
+  /// outlive the solver's use of it. Results do not depend on it.
+  virtual void SetParallelExecutor(internal::ParallelExecutor const* /*executor*/) {}
   /// What really ran, as the backend reports it ("CHOLMOD supernodal", ...).
   virtual std::string GetDescription() const = 0;
   /// Nonzeros of the Cholesky factor L (after Analyze), or -1 if unknown.
@@ -200,9 +221,14 @@ class LinearSolver {
   virtual LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) = 0;
   virtual LinearSolveResult DoSolve(Span<real const> b, Span<real> x) = 0;
   virtual LinearSolveResult DoResume(Span<real const> b, Span<real> x) { return DoSolve(b, x); }
+  virtual LinearSolveResult DoApplyPreconditioner(Span<real const> b, Span<real> x,
+                                                  bool /*reducedPrecision*/) {
+    return DoSolve(b, x);
+  }
 
  private:
-  LinearSolveResult CheckedSolve(Span<real const> b, Span<real> x, bool resume);
+  enum class SolveKind { Solve, Resume, Preconditioner, ReducedPrecisionPreconditioner };
+  LinearSolveResult CheckedSolve(Span<real const> b, Span<real> x, SolveKind kind);
 
   bool analyzed_ = false;
   bool factorized_ = false;

@@ -42,7 +42,8 @@ void ReusedFactorCg::Reserve(int size) {
 ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, LinearSolver& factor,
                                              Span<real const> b, Span<real> x, real relativeTolerance,
                                              int maxIterations, bool resume,
-                                             StepTolerance const* stepTolerance) {
+                                             StepTolerance const* stepTolerance,
+                                             bool reducedPrecision) {
   int const n = a.size;
   if (residual_.size() != n) Reserve(n);
   Eigen::Map<VectorX> solution(x.data(), n);
@@ -71,12 +72,13 @@ ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, Lin
     residual_ = rhs;
   }
   auto precondition = [&] {
-    LinearSolveResult const solved = factor.Solve(residual, preconditioned);
+    LinearSolveResult const solved = factor.ApplyPreconditioner(residual, preconditioned, reducedPrecision);
     if (!solved.Ok()) {
       result.status = Status::PreconditionerFailed;
       result.reason = solved.reason;
     }
     ++result.iterations;
+    result.reducedPrecision = solved.reducedPrecision;
     return solved.Ok();
   };
 

@@ -44,6 +44,8 @@ class ReusedFactorCg {
     int iterations = 0;          ///< preconditioner applications (= A products)
     real relativeResidual = 0;   ///< ‖b − A x‖₂ / ‖b‖₂ at return
     std::string reason;          ///< PreconditionerFailed: the backend's reason
+    /// the factor was applied in reduced precision (LinearSolveResult::reducedPrecision)
+    bool reducedPrecision = false;
   };
 
   /// Converged as well when maxᵢ scales[i] |(M⁻¹ r)ᵢ| <= tolerance.
@@ -58,10 +60,14 @@ class ReusedFactorCg {
   /// (factor.Solve), from x = 0, or with `resume` from the x passed in (a
   /// looser solve continued to a tighter tolerance; the residual is
   /// recomputed, one more product with A). A must have the factorized size.
-  /// A zero b gives x = 0, converged, in 0 iterations.
+  /// A zero b gives x = 0, converged, in 0 iterations. With
+  /// `reducedPrecision` the factor is applied through
+  /// LinearSolver::ApplyPreconditioner in reduced precision where the backend
+  /// has it (the preconditioner changes; the residual, and so the answer's
+  /// tolerance, stays in double precision).
   Result Solve(SparseSymmetricMatrix const& a, LinearSolver& factor, Span<real const> b, Span<real> x,
                real relativeTolerance, int maxIterations, bool resume = false,
-               StepTolerance const* stepTolerance = nullptr);
+               StepTolerance const* stepTolerance = nullptr, bool reducedPrecision = false);
 
  private:
   VectorX residual_, preconditioned_, direction_, product_;

@@ -654,6 +654,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.truncatedSolves = 0;
   stats_.factorizations = 0;
   stats_.reusedFactorSolves = 0;
+  stats_.singlePrecisionSolves = 0;
   stats_.nearRigidConstraints = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;

@@ -80,6 +80,17 @@ struct NewtonParams {
   /// converged state stays within the tolerance of full Newton's. Off: every
   /// reused-factor solve goes to factorReuseTolerance.
   bool reuseForcingTerms = true;
+  /// With reuseFactorization: the reused-factor CG applies a supernodal
+  /// CHOLMOD factor from a copy of L rounded to single precision (half the
+  /// memory traffic of its triangular solves, which run at memory speed), the
+  /// arithmetic and CG's residual staying in double. The preconditioner is
+  /// then L̃L̃ᵀ with L̃ = L rounded, still symmetric positive definite, and
+  /// each Newton step is still the current Hessian's to the same tolerance.
+  /// Skipped per factorization when L's diagonal spread says the Hessian is
+  /// too ill-conditioned for single precision to pay (or a value does not fit
+  /// a float); simplicial and dense factors always solve in double
+  /// (docs/linear_solvers.md "Reused factorizations"). Off: double always.
+  bool singlePrecisionReusedFactor = true;
 };
 
 /// Automatic sub-stepping: a policy for steps that fail, off by default.
@@ -158,6 +169,9 @@ struct SceneStats {
   /// Newton systems solved by CG with a reused factorization as the
   /// preconditioner (NewtonParams::reuseFactorization), without factorizing
   int reusedFactorSolves = 0;
+  /// Of those, the ones that applied the factor from its single-precision
+  /// copy (NewtonParams::singlePrecisionReusedFactor)
+  int singlePrecisionSolves = 0;
   int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
                                    ///< inexact-Newton re-solves and second-order corrections)
   /// Constraints whose k and d the near-rigid cap (NewtonParams::

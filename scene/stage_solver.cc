@@ -138,6 +138,7 @@ bool StageSolver::EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneSta
     else
       solver_ = CreateLinearSolver(type, pcg_, error);
     if (!solver_) return false;
+    solver_->SetParallelExecutor(&executor_);
   }
   if (!solver_->IsAnalyzed() || solver_->GetAnalyzedPatternVersion() != matrix.patternVersion) {
     auto const start = Clock::now();
@@ -211,7 +212,8 @@ bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, real toleran
   ReusedFactorCg::Result const result =
       reuseCg_.Solve(assembler_.GetMatrix(), *solver_, Span<real const>(orderedRhs_.data(), n),
                      Span<real>(orderedSolution_.data(), n), tolerance, cap, resume,
-                     newton.reuseForcingTerms ? &reuseStepTolerance_ : nullptr);
+                     newton.reuseForcingTerms ? &reuseStepTolerance_ : nullptr,
+                     newton.singlePrecisionReusedFactor);
   stats.solveSeconds += SecondsSince(start);
   stats.linearIterations += result.iterations;
   ++stats.linearSolves;
@@ -221,6 +223,7 @@ bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, real toleran
   }
   reuseFailuresInRow_ = 0;
   ++stats.reusedFactorSolves;
+  if (result.reducedPrecision) ++stats.singlePrecisionSolves;
   assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), n), Span<real>(delta_.data(), n));
   return true;
 }

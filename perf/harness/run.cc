@@ -207,16 +207,19 @@ struct MethodDef {
   bool adaptiveTolerance = false;
   bool reuseFactorization = true;  ///< direct solvers: NewtonParams::reuseFactorization
   bool reuseForcingTerms = true;   ///< NewtonParams::reuseForcingTerms
+  bool singlePrecisionReusedFactor = true;  ///< NewtonParams::singlePrecisionReusedFactor
 };
 
 using Pc = PcgPreconditioner;
 constexpr auto kPcg = LinearSolverType::PetscPcg;
 
-std::array<MethodDef, 15> const kMethods{{
+std::array<MethodDef, 16> const kMethods{{
     {"cholmod", LinearSolverType::Cholmod},
     {"cholmod-refactor", LinearSolverType::Cholmod, Pc::None, OrderingMethod::Metis, false, false, false},
     {"cholmod-reuse-fixed", LinearSolverType::Cholmod, Pc::None, OrderingMethod::Metis, false, false, true,
      false},
+    {"cholmod-reuse-f64", LinearSolverType::Cholmod, Pc::None, OrderingMethod::Metis, false, false, true,
+     true, false},
     {"cholmod-amd", LinearSolverType::Cholmod, Pc::None, OrderingMethod::SolverDefault},
     {"dense", LinearSolverType::Dense},
     {"pcg-none", kPcg, Pc::None},
@@ -263,6 +266,7 @@ bool MakeMethod(RunSpec const& spec, Method& method) {
   method.pcg.adaptiveTolerance = def->adaptiveTolerance;
   method.reuseFactorization = def->reuseFactorization;
   method.reuseForcingTerms = def->reuseForcingTerms;
+  method.singlePrecisionReusedFactor = def->singlePrecisionReusedFactor;
   // the Eisenstat–Walker cap must stay >= rtol
   method.pcg.adaptiveMaxTolerance = std::max(method.pcg.adaptiveMaxTolerance, spec.rtol);
   return true;
@@ -559,6 +563,7 @@ Row ExecuteRun(RunSpec const& spec) {
   params.newton.nearRigidBeta = spec.nearRigid;
   params.newton.reuseFactorization = method.reuseFactorization;
   params.newton.reuseForcingTerms = method.reuseForcingTerms;
+  params.newton.singlePrecisionReusedFactor = method.singlePrecisionReusedFactor;
   params.numThreads = spec.threads;
   params.linearSolver = method.solver;
   params.pcg = method.pcg;

@@ -94,6 +94,7 @@ struct Method {
   bool isPcg = false;
   bool reuseFactorization = true;  ///< NewtonParams::reuseFactorization (direct solvers)
   bool reuseForcingTerms = true;   ///< NewtonParams::reuseForcingTerms (direct solvers)
+  bool singlePrecisionReusedFactor = true;  ///< NewtonParams::singlePrecisionReusedFactor
 };
 
 /// The method labels the harness knows, in display order.

@@ -449,3 +449,17 @@ def test_threads_and_reused_factorizations():
     assert np.abs(stats["fixed"][3] - stats[False][3]).max() <= 5 * 1e-6 / 60
     with pytest.raises(mochi.Error, match="factorReuseTolerance"):
         mochi.Scene.create(newton=mochi.NewtonParams(factor_reuse_tolerance=0))
+
+    # the single-precision copy of a CHOLMOD factor: the same states within the tolerance
+    positions = {}
+    for single in (True, False):
+        newton_params = mochi.NewtonParams(single_precision_reused_factor=single)
+        assert newton_params.single_precision_reused_factor == single
+        scene, beam = _sagging_beam(linear_solver=mochi.LinearSolverType.Cholmod,
+                                    newton=newton_params)
+        for _ in range(5):
+            scene.step(1 / 60)
+            if not single:
+                assert scene.get_stats().single_precision_solves == 0
+        positions[single] = beam.get_node_positions()
+    assert np.abs(positions[True] - positions[False]).max() <= 5 * 1e-6 / 60

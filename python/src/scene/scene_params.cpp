@@ -45,7 +45,12 @@ void DefineSceneParams(py::module_& m) {
              "with reuse_factorization: each reused-factor CG stops at its iteration's "
              "inexact-Newton forcing term (Eisenstat-Walker, in [factor_reuse_tolerance, 0.1]); "
              "a step that looks converged is continued to factor_reuse_tolerance before Newton "
-             "stops, so the converged state is the same. Default True");
+             "stops, so the converged state is the same. Default True")
+      .Field("single_precision_reused_factor", &N::singlePrecisionReusedFactor,
+             "with reuse_factorization: the reused-factor CG applies a supernodal CHOLMOD factor "
+             "from a single-precision copy of L (half the memory traffic; CG's residual and the "
+             "Newton tolerance stay in double), unless the factor's diagonal spread says the "
+             "Hessian is too ill-conditioned. Default True");
 
   ParamsClass<SubstepParams>(
       m, "SubstepParams",
@@ -117,6 +122,9 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("reused_factor_solves", &T::reusedFactorSolves,
                     "last step: Newton systems solved by CG with a reused factorization "
                     "(NewtonParams.reuse_factorization), without factorizing")
+      .def_readonly("single_precision_solves", &T::singlePrecisionSolves,
+                    "last step: of the reused-factor solves, those that applied the factor from "
+                    "its single-precision copy (NewtonParams.single_precision_reused_factor)")
       .def_readonly("linear_solves", &T::linearSolves, "last step")
       .def_readonly("near_rigid_constraints", &T::nearRigidConstraints,
                     "last step: constraints whose k and d the near-rigid cap lowered (the most in "
