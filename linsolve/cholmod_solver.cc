@@ -458,6 +458,9 @@ bool CholmodSolver::UsesSinglePrecisionPreconditioner() {
     layout.rows = static_cast<int const*>(factor.s);
     layout.permutation = factor.ordering != CHOLMOD_NATURAL ? static_cast<int const*>(factor.Perm) : nullptr;
     layout.numValues = factor.xsize;
+    // float arithmetic: 16–21 % faster solves than double arithmetic on the
+    // same float copy here, same CG iterations (docs/linear_solvers.md)
+    impl.single.SetFloatArithmetic(true);
     impl.single.Assign(layout, static_cast<double const*>(factor.x));
     impl.singleStale = false;
   }

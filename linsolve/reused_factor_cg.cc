@@ -37,6 +37,7 @@ void ReusedFactorCg::Reserve(int size) {
   preconditioned_.setZero(size);
   direction_.setZero(size);
   product_.setZero(size);
+  previousPreconditioned_.setZero(size);
 }
 
 ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, LinearSolver& factor,
@@ -118,13 +119,19 @@ ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, Lin
       result.status = Status::NotConverged;
       return result;
     }
+    if (reducedPrecision) previousPreconditioned_ = preconditioned_;
     if (!precondition()) return result;
     if (errorSmall()) {
       result.status = Status::Converged;
       return result;
     }
     real const rzNext = residual_.dot(preconditioned_);
-    direction_ = preconditioned_ + (rzNext / rz) * direction_;
+    // Polak–Ribière β with a reduced-precision preconditioner (flexible CG:
+    // M⁻¹ is then not exactly one linear operator; equal to Fletcher–Reeves
+    // in exact arithmetic with a fixed one)
+    real const beta =
+        reducedPrecision ? (rzNext - residual_.dot(previousPreconditioned_)) / rz : rzNext / rz;
+    direction_ = preconditioned_ + beta * direction_;
     rz = rzNext;
   }
 }

@@ -64,13 +64,17 @@ class ReusedFactorCg {
   /// `reducedPrecision` the factor is applied through
   /// LinearSolver::ApplyPreconditioner in reduced precision where the backend
   /// has it (the preconditioner changes; the residual, and so the answer's
-  /// tolerance, stays in double precision).
+  /// tolerance, stays in double precision). CG then takes the Polak–Ribière
+  /// β = rₖ₊₁ᵀ(zₖ₊₁ − zₖ) / rₖᵀzₖ of flexible CG (Notay 2000), robust to a
+  /// preconditioner that is not exactly one linear operator (float
+  /// arithmetic) and equal to the usual β with one that is.
   Result Solve(SparseSymmetricMatrix const& a, LinearSolver& factor, Span<real const> b, Span<real> x,
                real relativeTolerance, int maxIterations, bool resume = false,
                StepTolerance const* stepTolerance = nullptr, bool reducedPrecision = false);
 
  private:
   VectorX residual_, preconditioned_, direction_, product_;
+  VectorX previousPreconditioned_;  ///< reducedPrecision: z of the last iteration
 };
 
 }  // namespace superdex::internal

@@ -39,81 +39,110 @@ inline Double4 Load(double const* p) {
   return v;
 }
 
-// Σ column[i] · w[i] over i < count, in double: four independent vector
-// sums (16 entries per pass), so that the multiply-adds do not wait on each
-// other's latency
-inline double Dot(float const* column, double const* w, int count) {
-  Double4 s0{}, s1{}, s2{}, s3{};
+typedef float Float8 __attribute__((vector_size(32)));
+
+inline Float8 Load(float const* p) {
+  Float8 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// The vector type of the arithmetic T, and L's floats loaded into it: four
+// doubles (widened), or eight floats
+template <class T>
+struct Lanes;
+template <>
+struct Lanes<double> {
+  using Vector = Double4;
+  static constexpr int kWidth = 4;
+  static Vector LoadL(float const* p) { return LoadWidened(p); }
+};
+template <>
+struct Lanes<float> {
+  using Vector = Float8;
+  static constexpr int kWidth = 8;
+  static Vector LoadL(float const* p) { return Load(p); }
+};
+
+template <class Vector>
+inline auto Sum(Vector const& v) {
+  auto sum = v[0];
+  for (std::size_t k = 1; k < sizeof(Vector) / sizeof(v[0]); ++k) sum += v[k];
+  return sum;
+}
+
+template <class T>
+inline void Store(T* p, typename Lanes<T>::Vector const& v) {
+  std::memcpy(p, &v, sizeof v);
+}
+
+// Σ column[i] · w[i] over i < count in T: four independent vector sums, so
+// that the multiply-adds do not wait on each other's latency
+template <class T>
+inline T Dot(float const* column, T const* w, int count) {
+  using L = Lanes<T>;
+  constexpr int kW = L::kWidth;
+  typename L::Vector s0{}, s1{}, s2{}, s3{};
   int i = 0;
-  for (; i + 16 <= count; i += 16) {
-    s0 += LoadWidened(column + i) * Load(w + i);
-    s1 += LoadWidened(column + i + 4) * Load(w + i + 4);
-    s2 += LoadWidened(column + i + 8) * Load(w + i + 8);
-    s3 += LoadWidened(column + i + 12) * Load(w + i + 12);
+  for (; i + 4 * kW <= count; i += 4 * kW) {
+    s0 += L::LoadL(column + i) * Load(w + i);
+    s1 += L::LoadL(column + i + kW) * Load(w + i + kW);
+    s2 += L::LoadL(column + i + 2 * kW) * Load(w + i + 2 * kW);
+    s3 += L::LoadL(column + i + 3 * kW) * Load(w + i + 3 * kW);
   }
-  for (; i + 4 <= count; i += 4) s0 += LoadWidened(column + i) * Load(w + i);
-  Double4 const s = (s0 + s1) + (s2 + s3);
-  double sum = (s[0] + s[1]) + (s[2] + s[3]);
-  for (; i < count; ++i) sum += double(column[i]) * w[i];
+  for (; i + kW <= count; i += kW) s0 += L::LoadL(column + i) * Load(w + i);
+  T sum = Sum((s0 + s1) + (s2 + s3));
+  for (; i < count; ++i) sum += T(column[i]) * w[i];
   return sum;
 }
 
 // w[i] −= column[i] · a over i < count
-inline void SubtractScaled(float const* column, double a, double* w, int count) {
+template <class T>
+inline void SubtractScaled(float const* column, T a, T* w, int count) {
+  using L = Lanes<T>;
   int i = 0;
-  for (; i + 4 <= count; i += 4) {
-    Double4 const v = Load(w + i) - LoadWidened(column + i) * a;
-    std::memcpy(w + i, &v, sizeof v);
-  }
-  for (; i < count; ++i) w[i] -= double(column[i]) * a;
+  for (; i + L::kWidth <= count; i += L::kWidth) Store(w + i, Load(w + i) - L::LoadL(column + i) * a);
+  for (; i < count; ++i) w[i] -= T(column[i]) * a;
 }
 
 // t[i] −= Σₖ columnₖ[i] · aₖ over i < count, for the four columns at
 // column, column + stride, ... (one pass over t for four columns of L)
-inline void SubtractScaled4(float const* column, std::size_t stride, double const* a, double* t,
-                            int count) {
+template <class T>
+inline void SubtractScaled4(float const* column, std::size_t stride, T const* a, T* t, int count) {
+  using L = Lanes<T>;
   float const* c0 = column;
   float const* c1 = column + stride;
   float const* c2 = column + 2 * stride;
   float const* c3 = column + 3 * stride;
   int i = 0;
-  for (; i + 4 <= count; i += 4) {
-    Double4 const v = Load(t + i) - (LoadWidened(c0 + i) * a[0] + LoadWidened(c1 + i) * a[1]) -
-                      (LoadWidened(c2 + i) * a[2] + LoadWidened(c3 + i) * a[3]);
-    std::memcpy(t + i, &v, sizeof v);
-  }
+  for (; i + L::kWidth <= count; i += L::kWidth)
+    Store(t + i, Load(t + i) - (L::LoadL(c0 + i) * a[0] + L::LoadL(c1 + i) * a[1]) -
+                     (L::LoadL(c2 + i) * a[2] + L::LoadL(c3 + i) * a[3]));
   for (; i < count; ++i)
-    t[i] -= (double(c0[i]) * a[0] + double(c1[i]) * a[1]) + (double(c2[i]) * a[2] + double(c3[i]) * a[3]);
+    t[i] -= (T(c0[i]) * a[0] + T(c1[i]) * a[1]) + (T(c2[i]) * a[2] + T(c3[i]) * a[3]);
 }
 
 // d[k] = Σᵢ columnₖ[i] · g[i] over i < count for the four columns at column,
 // column + stride, ... (one pass over g for four columns of L)
-inline void Dot4(float const* column, std::size_t stride, double const* g, int count, double* d) {
-  float const* c0 = column;
-  float const* c1 = column + stride;
-  float const* c2 = column + 2 * stride;
-  float const* c3 = column + 3 * stride;
-  Double4 s0{}, s1{}, s2{}, s3{};
+template <class T>
+inline void Dot4(float const* column, std::size_t stride, T const* g, int count, T* d) {
+  using L = Lanes<T>;
+  float const* c[4] = {column, column + stride, column + 2 * stride, column + 3 * stride};
+  typename L::Vector s0{}, s1{}, s2{}, s3{};
   int i = 0;
-  for (; i + 4 <= count; i += 4) {
-    Double4 const gi = Load(g + i);
-    s0 += LoadWidened(c0 + i) * gi;
-    s1 += LoadWidened(c1 + i) * gi;
-    s2 += LoadWidened(c2 + i) * gi;
-    s3 += LoadWidened(c3 + i) * gi;
+  for (; i + L::kWidth <= count; i += L::kWidth) {
+    auto const gi = Load(g + i);
+    s0 += L::LoadL(c[0] + i) * gi;
+    s1 += L::LoadL(c[1] + i) * gi;
+    s2 += L::LoadL(c[2] + i) * gi;
+    s3 += L::LoadL(c[3] + i) * gi;
   }
-  double d0 = (s0[0] + s0[1]) + (s0[2] + s0[3]), d1 = (s1[0] + s1[1]) + (s1[2] + s1[3]);
-  double d2 = (s2[0] + s2[1]) + (s2[2] + s2[3]), d3 = (s3[0] + s3[1]) + (s3[2] + s3[3]);
-  for (; i < count; ++i) {
-    d0 += double(c0[i]) * g[i];
-    d1 += double(c1[i]) * g[i];
-    d2 += double(c2[i]) * g[i];
-    d3 += double(c3[i]) * g[i];
-  }
-  d[0] = d0;
-  d[1] = d1;
-  d[2] = d2;
-  d[3] = d3;
+  d[0] = Sum(s0);
+  d[1] = Sum(s1);
+  d[2] = Sum(s2);
+  d[3] = Sum(s3);
+  for (; i < count; ++i)
+    for (int k = 0; k < 4; ++k) d[k] += T(c[k][i]) * g[i];
 }
 
 }  // namespace
@@ -214,7 +243,8 @@ void SinglePrecisionFactor::Partition() {
       topColumns_.push_back(c);
     }
   }
-  groupBuffers_.resize(static_cast<std::size_t>(numGroups_) * topColumns_.size());
+  (floatArithmetic_ ? floatWork_.groupBuffers.resize(static_cast<std::size_t>(numGroups_) * topColumns_.size())
+                    : doubleWork_.groupBuffers.resize(static_cast<std::size_t>(numGroups_) * topColumns_.size()));
 }
 
 bool SinglePrecisionFactor::Assign(SupernodalLayout const& layout, double const* values) {
@@ -226,11 +256,17 @@ bool SinglePrecisionFactor::Assign(SupernodalLayout const& layout, double const*
     maxRows = std::max(maxRows, layout.rowStart[s + 1] - layout.rowStart[s]);
   // sized once per layout: resize keeps the capacity when the size is the same
   values_.resize(layout.numValues);
-  permuted_.resize(static_cast<std::size_t>(layout.size));
-  inverseDiagonal_.resize(static_cast<std::size_t>(layout.size));
   workspaceThreads_ = executor_ != nullptr ? executor_->GetNumThreads() : 1;
   maxRows_ = maxRows;
-  block_.resize(static_cast<std::size_t>(maxRows) * workspaceThreads_);
+  auto const size = [&](auto& work) {
+    work.inverseDiagonal.resize(static_cast<std::size_t>(layout.size));
+    work.permuted.resize(static_cast<std::size_t>(layout.size));
+    work.block.resize(static_cast<std::size_t>(maxRows) * workspaceThreads_);
+  };
+  if (floatArithmetic_)
+    size(floatWork_);
+  else
+    size(doubleWork_);
   Partition();
 
   constexpr double kFloatMax = std::numeric_limits<float>::max();
@@ -253,7 +289,10 @@ bool SinglePrecisionFactor::Assign(SupernodalLayout const& layout, double const*
                   " is not positive as a float";
         return false;
       }
-      inverseDiagonal_[layout.super[s] + j] = 1 / diagonal;
+      if (floatArithmetic_)
+        floatWork_.inverseDiagonal[layout.super[s] + j] = 1 / float(diagonal);
+      else
+        doubleWork_.inverseDiagonal[layout.super[s] + j] = 1 / diagonal;
       minDiagonal = std::min(minDiagonal, diagonal);
       maxDiagonal = std::max(maxDiagonal, diagonal);
     }
@@ -275,29 +314,30 @@ SinglePrecisionFactor::Supernode SinglePrecisionFactor::View(int s) const {
           layout.super[s + 1] - first,
           layout.rowStart[s + 1] - layout.rowStart[s],
           layout.rows + layout.rowStart[s],
-          values_.data() + layout.valueStart[s],
-          inverseDiagonal_.data() + first};
+          values_.data() + layout.valueStart[s]};
 }
 
-void SinglePrecisionFactor::ForwardSupernode(int s, double* w, double* topBuffer) {
+template <class T>
+void SinglePrecisionFactor::ForwardSupernode(int s, T* w, T* topBuffer) {
   // L y = P b for supernode s: its rows of y into w (zero below its own
   // columns), then per block of up to four columns the block's small
   // triangle, and one pass over the rows under it (the rest of the
   // supernode's triangle and the rows below, contiguous in each column);
   // w scattered back, rows of the top to topBuffer when given (a group's
   // own sums)
-  double* y = permuted_.data();
-  auto const [first, numCols, numRows, rows, block, inverse] = View(s);
+  T* y = Work<T>().permuted.data();
+  auto const [first, numCols, numRows, rows, block] = View(s);
+  T const* inverse = Work<T>().inverseDiagonal.data() + first;
   for (int j = 0; j < numCols; ++j) w[j] = y[first + j];
-  std::fill(w + numCols, w + numRows, 0.0);
+  std::fill(w + numCols, w + numRows, T(0));
   for (int j = 0; j < numCols; j += 4) {
     int const width = std::min(4, numCols - j);
     float const* column = block + std::size_t(j) * numRows;  // column j, row 0
     for (int k = 0; k < width; ++k) {
       float const* columnK = column + std::size_t(k) * numRows;
-      double const wk = w[j + k] * inverse[j + k];
+      T const wk = w[j + k] * inverse[j + k];
       w[j + k] = wk;
-      for (int m = k + 1; m < width; ++m) w[j + m] -= double(columnK[j + m]) * wk;
+      for (int m = k + 1; m < width; ++m) w[j + m] -= T(columnK[j + m]) * wk;
     }
     int const next = j + width;
     if (width == 4) {
@@ -321,19 +361,21 @@ void SinglePrecisionFactor::ForwardSupernode(int s, double* w, double* topBuffer
   }
 }
 
-void SinglePrecisionFactor::BackwardSupernode(int s, double* w) {
+template <class T>
+void SinglePrecisionFactor::BackwardSupernode(int s, T* w) {
   // Lᵀ z = y for supernode s: w gathers its rows of y (those below its own
   // columns already solved), then per block of up to four columns from the
   // last, one pass over the rows under the block (dot products with the
   // solved values) and the block's small triangle
-  double* y = permuted_.data();
-  auto const [first, numCols, numRows, rows, block, inverse] = View(s);
+  T* y = Work<T>().permuted.data();
+  auto const [first, numCols, numRows, rows, block] = View(s);
+  T const* inverse = Work<T>().inverseDiagonal.data() + first;
   for (int i = 0; i < numRows; ++i) w[i] = y[rows[i]];
   for (int j = (numCols - 1) / 4 * 4; j >= 0; j -= 4) {
     int const width = std::min(4, numCols - j);
     float const* column = block + std::size_t(j) * numRows;
     int const next = j + width;
-    double d[4];
+    T d[4];
     if (width == 4) {
       Dot4(column + next, numRows, w + next, numRows - next, d);
     } else {
@@ -342,8 +384,8 @@ void SinglePrecisionFactor::BackwardSupernode(int s, double* w) {
     }
     for (int k = width - 1; k >= 0; --k) {
       float const* columnK = column + std::size_t(k) * numRows;
-      double sum = w[j + k] - d[k];
-      for (int m = k + 1; m < width; ++m) sum -= double(columnK[j + m]) * w[j + m];
+      T sum = w[j + k] - d[k];
+      for (int m = k + 1; m < width; ++m) sum -= T(columnK[j + m]) * w[j + m];
       w[j + k] = sum * inverse[j + k];
     }
   }
@@ -361,45 +403,55 @@ void SinglePrecisionFactor::RunGroups(F const& body) const {
 }
 
 void SinglePrecisionFactor::Solve(double const* b, double* x) {
+  if (floatArithmetic_)
+    SolveIn<float>(b, x);
+  else
+    SolveIn<double>(b, x);
+}
+
+template <class T>
+void SinglePrecisionFactor::SolveIn(double const* b, double* x) {
   SupernodalLayout const& layout = layout_;
+  Workspace<T>& work = Work<T>();
   int const n = layout.size;
   int const* perm = layout.permutation;
-  double* y = permuted_.data();
-  for (int k = 0; k < n; ++k) y[k] = b[perm != nullptr ? perm[k] : k];
+  T* y = work.permuted.data();
+  for (int k = 0; k < n; ++k) y[k] = T(b[perm != nullptr ? perm[k] : k]);
 
   // forward: the groups' subtrees concurrently (each writes only its own
   // columns, and its sums into the top to its own buffer), the buffers added
   // in group order, then the top in order
   int const numTop = static_cast<int>(topColumns_.size());
-  std::fill(groupBuffers_.begin(), groupBuffers_.end(), 0.0);
+  std::fill(work.groupBuffers.begin(), work.groupBuffers.end(), T(0));
   auto const forwardGroups = [&](int begin, int end, int thread) {
-    double* w = block_.data() + std::size_t(thread) * maxRows_;
+    T* w = work.block.data() + std::size_t(thread) * maxRows_;
     for (int g = begin; g < end; ++g) {
-      double* buffer = groupBuffers_.data() + std::size_t(g) * numTop;
+      T* buffer = work.groupBuffers.data() + std::size_t(g) * numTop;
       for (int t = groupStart_[g]; t < groupStart_[g + 1]; ++t)
         for (int s = firstDescendant_[subtreeRoots_[t]]; s <= subtreeRoots_[t]; ++s)
-          ForwardSupernode(s, w, buffer);
+          ForwardSupernode<T>(s, w, buffer);
     }
   };
   RunGroups(forwardGroups);
   for (int g = 0; g < numGroups_; ++g) {
-    double const* buffer = groupBuffers_.data() + std::size_t(g) * numTop;
+    T const* buffer = work.groupBuffers.data() + std::size_t(g) * numTop;
     for (int i = 0; i < numTop; ++i) y[topColumns_[i]] += buffer[i];
   }
-  for (int s : topSupernodes_) ForwardSupernode(s, block_.data(), nullptr);
+  for (int s : topSupernodes_) ForwardSupernode<T>(s, work.block.data(), nullptr);
 
   // backward: the top last to first, then the groups' subtrees concurrently
   // (each reads the top and writes only its own columns)
-  for (auto s = topSupernodes_.rbegin(); s != topSupernodes_.rend(); ++s) BackwardSupernode(*s, block_.data());
+  for (auto s = topSupernodes_.rbegin(); s != topSupernodes_.rend(); ++s)
+    BackwardSupernode<T>(*s, work.block.data());
   auto const backwardGroups = [&](int begin, int end, int thread) {
-    double* w = block_.data() + std::size_t(thread) * maxRows_;
+    T* w = work.block.data() + std::size_t(thread) * maxRows_;
     for (int g = begin; g < end; ++g)
       for (int t = groupStart_[g]; t < groupStart_[g + 1]; ++t)
-        for (int s = subtreeRoots_[t]; s >= firstDescendant_[subtreeRoots_[t]]; --s) BackwardSupernode(s, w);
+        for (int s = subtreeRoots_[t]; s >= firstDescendant_[subtreeRoots_[t]]; --s) BackwardSupernode<T>(s, w);
   };
   RunGroups(backwardGroups);
 
-  for (int k = 0; k < n; ++k) x[perm != nullptr ? perm[k] : k] = y[k];
+  for (int k = 0; k < n; ++k) x[perm != nullptr ? perm[k] : k] = double(y[k]);
 }
 
 }  // namespace superdex::internal

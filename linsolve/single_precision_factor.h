@@ -5,21 +5,27 @@
 // factorization M = Pᵀ L Lᵀ P as its preconditioner several times per Newton
 // iteration. A pair of triangular solves reads every entry of L twice and
 // does two multiply-adds per entry: on a volumetric mesh's factor (tens of
-// MB to GB) it runs at the speed of memory, not of arithmetic. With L's
-// values stored as float the solves read half the bytes; the arithmetic
-// stays in double (each float is widened as it is loaded). The preconditioner
-// is then exactly
+// MB to GB) it is bound by loads, not by arithmetic. With L's values stored
+// as float the solves read half the bytes. The factor applied is
 //
 //   M̃ = Pᵀ L̃ L̃ᵀ P,   L̃ᵢⱼ = fl32(Lᵢⱼ),   |L̃ᵢⱼ − Lᵢⱼ| <= 2⁻²⁴ |Lᵢⱼ|,
 //
-// symmetric positive definite (L̃'s diagonal is positive), so CG's theory
-// holds; M̃ − M comes from a relative perturbation of L's entries of at most
-// 6e-8, which moves the eigenvalues of M̃⁻¹A by about 6e-8 κ(L) = 6e-8 √κ(A)
-// — far less, on a Hessian that is not near-singular,
-// than the staleness of an earlier factorization that CG already absorbs
-// (kMaxDiagonalSpread gives the bound in terms of L).
-// The Newton step is still the current Hessian's own, to the CG tolerance
-// on its double-precision residual. Assign refuses (and the caller keeps the
+// symmetric positive definite (L̃'s diagonal is positive); M̃ − M comes from a
+// relative perturbation of L's entries of at most 6e-8, which moves the
+// eigenvalues of M̃⁻¹A by about 6e-8 κ(L) = 6e-8 √κ(A) — far less, on a
+// Hessian that is not near-singular, than the staleness of an earlier
+// factorization that CG already absorbs (kMaxDiagonalSpread gives the bound
+// in terms of L).
+//
+// Arithmetic: in double (SetFloatArithmetic(false): each float widened as
+// it is loaded), Solve applies M̃⁻¹ exactly up to double round-off, a fixed
+// SPD operator; in float (SetFloatArithmetic(true), what CholmodSolver uses:
+// the vectors rounded too, and twice the lanes per instruction), it applies
+// M̃⁻¹ up to a forward error of the same order as L's rounding, u κ(L) — a
+// slightly nonlinear operator, for which ReusedFactorCg takes the
+// Polak–Ribière β of flexible CG. Either way the Newton step is still the
+// current Hessian's own, to the CG tolerance on its double-precision
+// residual. Assign refuses (and the caller keeps the
 // double-precision solve) when a value does not fit a float, or when the
 // spread of L's diagonal says κ(L) >= kMaxDiagonalSpread, where single
 // precision would cost CG iterations instead of saving time.
@@ -48,6 +54,7 @@
 
 #include <cstddef>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <superdex/core/types.h>
@@ -87,6 +94,9 @@ class SinglePrecisionFactor {
   /// before Assign, which sizes a workspace per thread; the executor must
   /// outlive this object's use of it.
   void SetExecutor(ParallelExecutor const* executor) { executor_ = executor; }
+  /// Solve in float arithmetic (the vectors rounded too) instead of double.
+  /// Set before Assign.
+  void SetFloatArithmetic(bool on) { floatArithmetic_ = on; }
 
   /// Subtrees are at most 1/kSubtreeTarget of L's stored entries.
   static constexpr int kSubtreeTarget = 64;
@@ -114,21 +124,39 @@ class SinglePrecisionFactor {
     int first, numCols, numRows;
     int const* rows;
     float const* block;
-    double const* inverse;
   };
   Supernode View(int s) const;
   void Partition();
-  void ForwardSupernode(int s, double* w, double* topBuffer);
-  void BackwardSupernode(int s, double* w);
+  /// The solve's vectors, in the arithmetic's type T.
+  template <class T>
+  struct Workspace {
+    std::vector<T> inverseDiagonal;  ///< 1 / L̃ⱼⱼ
+    std::vector<T> permuted;         ///< P b, then the solution in L's order
+    std::vector<T> block;            ///< per thread: one supernode's rows of the vector
+    std::vector<T> groupBuffers;     ///< numGroups_ × top columns
+  };
+  template <class T>
+  Workspace<T>& Work() {
+    if constexpr (std::is_same_v<T, float>)
+      return floatWork_;
+    else
+      return doubleWork_;
+  }
+  template <class T>
+  void SolveIn(double const* b, double* x);
+  template <class T>
+  void ForwardSupernode(int s, T* w, T* topBuffer);
+  template <class T>
+  void BackwardSupernode(int s, T* w);
   template <class F>
   void RunGroups(F const& body) const;
 
   SupernodalLayout layout_;
   ParallelExecutor const* executor_ = nullptr;
   std::vector<float> values_;
-  std::vector<double> inverseDiagonal_;  ///< 1 / L̃ⱼⱼ
-  std::vector<double> permuted_;  ///< P b, then the solution in L's order
-  std::vector<double> block_;     ///< per thread: one supernode's rows of the vector
+  bool floatArithmetic_ = false;
+  Workspace<double> doubleWork_;
+  Workspace<float> floatWork_;
   int maxRows_ = 0;               ///< the most rows of a supernode (block_'s stride)
   int workspaceThreads_ = 1;      ///< threads block_ is sized for
   // the split (Partition)
@@ -141,7 +169,6 @@ class SinglePrecisionFactor {
   int numGroups_ = 0;                      ///< groups with a subtree
   std::vector<int> topSupernodes_, topColumns_;
   std::vector<int> topIndex_;              ///< column -> its index in topColumns_, or -1
-  std::vector<double> groupBuffers_;       ///< numGroups_ × top columns
   double diagonalSpread_ = 0;
   bool assigned_ = false;
   std::string reason_;
