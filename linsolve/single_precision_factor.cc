@@ -249,7 +249,7 @@ void SinglePrecisionFactor::Partition() {
 
 bool SinglePrecisionFactor::Assign(SupernodalLayout const& layout, double const* values) {
   assigned_ = false;
-  reason_.clear();
+  reason_ = "";
   layout_ = layout;
   int maxRows = 0;
   for (int s = 0; s < layout.numSupernodes; ++s)
@@ -273,7 +273,7 @@ bool SinglePrecisionFactor::Assign(SupernodalLayout const& layout, double const*
   for (std::size_t e = 0; e < layout.numValues; ++e) {
     double const value = values[e];
     if (!(std::abs(value) <= kFloatMax)) {
-      reason_ = "an entry of L (" + std::to_string(value) + ") does not fit a float";
+      reason_ = "an entry of L does not fit a float";
       return false;
     }
     values_[e] = static_cast<float>(value);
@@ -285,8 +285,7 @@ bool SinglePrecisionFactor::Assign(SupernodalLayout const& layout, double const*
     for (int j = 0; j < numCols; ++j) {
       double const diagonal = values_[layout.valueStart[s] + j + std::size_t(j) * numRows];
       if (!(diagonal > 0)) {
-        reason_ = "the diagonal of L in column " + std::to_string(layout.super[s] + j) +
-                  " is not positive as a float";
+        reason_ = "a diagonal entry of L is not positive as a float";
         return false;
       }
       if (floatArithmetic_)
@@ -299,8 +298,7 @@ bool SinglePrecisionFactor::Assign(SupernodalLayout const& layout, double const*
   }
   diagonalSpread_ = layout.size > 0 ? maxDiagonal / minDiagonal : 1;
   if (diagonalSpread_ >= kMaxDiagonalSpread) {
-    reason_ = "the spread of L's diagonal, " + std::to_string(diagonalSpread_) + ", is >= " +
-              std::to_string(kMaxDiagonalSpread);
+    reason_ = "the spread of L's diagonal (GetDiagonalSpread) is >= kMaxDiagonalSpread";
     return false;
   }
   assigned_ = true;

@@ -87,7 +87,7 @@ class SinglePrecisionFactor {
   /// Copies `values` (layout.numValues doubles) rounded to float. Returns
   /// false, leaving no usable copy, when a value is not finite as a float,
   /// a diagonal entry is not positive, or the diagonal spread reaches
-  /// kMaxDiagonalSpread; `reason` says which.
+  /// kMaxDiagonalSpread; GetReason says which.
   bool Assign(SupernodalLayout const& layout, double const* values);
 
   /// The threads of Solve (nullptr, the default: the calling thread). Set
@@ -111,7 +111,8 @@ class SinglePrecisionFactor {
   /// max Lⱼⱼ / min Lⱼⱼ of the last Assign (0 before).
   double GetDiagonalSpread() const { return diagonalSpread_; }
   /// Why the last Assign returned false (empty after a success).
-  std::string const& GetReason() const { return reason_; }
+  /// (a fixed text: Assign runs once per factorization and allocates nothing)
+  char const* GetReason() const { return reason_; }
   /// The split of the last Assign: the groups that run concurrently, and the
   /// columns of the top that run on one thread.
   int GetNumGroups() const { return numGroups_; }
@@ -171,7 +172,7 @@ class SinglePrecisionFactor {
   std::vector<int> topIndex_;              ///< column -> its index in topColumns_, or -1
   double diagonalSpread_ = 0;
   bool assigned_ = false;
-  std::string reason_;
+  char const* reason_ = "";
 };
 
 }  // namespace superdex::internal

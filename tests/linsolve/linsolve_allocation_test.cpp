@@ -15,6 +15,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <superdex/core/parallel.h>
 #include <superdex/linsolve/cholmod_solver.h>
 #include <superdex/linsolve/dense_solver.h>
 #include <superdex/linsolve/incomplete_cholesky.h>
@@ -93,6 +94,31 @@ TEST_CASE("Factorize and Solve do not allocate", "[linsolve][allocation]") {
     if (!solver.IsSupernodal()) CHECK(factorize.total == 0);
     WARN("cholmod_factorize: " << factorize.total << " heap allocations per call, n = " << size
                                << ", " << solver.GetDescription());
+  }
+  SECTION("CHOLMOD's single-precision copy: made and applied without allocating after the first") {
+    // a supernodal factor on 2 threads: the copy, its tree split and the
+    // per-thread workspaces are sized at the first reduced-precision
+    // application after the first Factorize, and only reused after that
+    internal::ParallelExecutor executor;
+    executor.SetNumThreads(2);
+    internal::CholmodSolver solver(internal::CholmodOrdering::CholmodDefault,
+                                   internal::CholmodFactorKind::Supernodal);
+    solver.SetParallelExecutor(&executor);
+    REQUIRE(solver.Analyze(a).Ok());
+    REQUIRE(solver.Factorize(a).Ok());
+    REQUIRE(solver.ApplyPreconditioner(bView, xView, true).Ok());
+    REQUIRE(solver.UsesSinglePrecisionPreconditioner());
+    LinearSolveResult factorized, applied;
+    REQUIRE(solver.Factorize(a).Ok());
+    // the copy of the new factorization (Assign) and its application
+    Allocations const copyAndApply =
+        CountAllocations([&] { applied = solver.ApplyPreconditioner(bView, xView, true); });
+    REQUIRE(applied.Ok());
+    REQUIRE(applied.reducedPrecision);
+    CHECK(copyAndApply.total == 0);
+    Allocations const apply = CountAllocations([&] { applied = solver.ApplyPreconditioner(bView, xView, true); });
+    REQUIRE(applied.Ok());
+    CHECK(apply.total == 0);
   }
   SECTION("incomplete Cholesky (Icc, BlockJacobi): nothing at all, shifted retries included") {
     // fill levels 1 and two groups; Kershaw-like trouble is not needed: a

@@ -111,6 +111,22 @@ TEST_CASE("deformable steps after the first allocate nothing", "[scene][allocati
   RequireStepsAllocateNothing(*scene, 1e-2, 10);
 }
 
+TEST_CASE("steps that reuse a single-precision factor copy allocate nothing",
+          "[scene][allocation][single]") {
+  // a beam whose CHOLMOD factor is supernodal: its reused-factor CG applies
+  // the float copy of L (SinglePrecisionFactor), made once per factorization
+  SceneParams params;
+  auto scene = MakeScene(params);
+  DeformableActorParams p;
+  p.youngModulus = 1e6;
+  p.density = 1000;
+  DeformableActor* beam = MakeBox(*scene, Real3::Zero(), Real3(0.6, 0.15, 0.15), {24, 6, 6}, p);
+  PinNodes(*scene, *beam, 1e8, [](Real3 const& x) { return x.x() < 1e-9; });
+  StepOk(*scene, 1.0 / 60, 2);
+  RequireStepsAllocateNothing(*scene, 1.0 / 60, 10);
+  REQUIRE(scene->GetStats().singlePrecisionSolves > 0);
+}
+
 TEST_CASE("rod steps after the first allocate nothing", "[scene][allocation][rod]") {
   // a rod clamped to a held rigid body (both rod couplings), drooping: every
   // rod path runs (stencil jets, frame transport, reference twist, the
