@@ -243,8 +243,11 @@ void SinglePrecisionFactor::Partition() {
       topColumns_.push_back(c);
     }
   }
-  (floatArithmetic_ ? floatWork_.groupBuffers.resize(static_cast<std::size_t>(numGroups_) * topColumns_.size())
-                    : doubleWork_.groupBuffers.resize(static_cast<std::size_t>(numGroups_) * topColumns_.size()));
+  std::size_t const bufferSize = static_cast<std::size_t>(numGroups_) * topColumns_.size();
+  if (floatArithmetic_)
+    floatWork_.groupBuffers.resize(bufferSize);
+  else
+    doubleWork_.groupBuffers.resize(bufferSize);
 }
 
 bool SinglePrecisionFactor::Assign(SupernodalLayout const& layout, double const* values) {
