@@ -15,7 +15,7 @@ COLUMNS = (
     "suite study family size dofs material stiffness_ratio method solver preconditioner rtol "
     "newton_tol constraint_hessian near_rigid integrator dt steps end_time newton_iterations linear_iterations "
     "linear_solves truncated_solves factorizations reused_solves near_rigid_capped pattern_builds symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops analysis_s "
-    "assembly_s factorization_s solve_s line_search_s other_s wall_per_step_s total_s "
+    "assembly_s factorization_s solve_s line_search_s other_s wall_per_step_s steady_per_step_s total_s "
     "peak_rss_mb error reference joint_drift energy_gain status reason"
 ).split()
 STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference", "long_run")
@@ -61,6 +61,13 @@ def main():
             fail(f"run failed: {r['family']} {r['size']} {r['method']}: {r['reason']}")
         if r["status"] == "ok" and not float(r["wall_per_step_s"]) > 0:
             fail(f"run without a time: {r}")
+        # the steady cost leaves out only the one-time analysis
+        if r["status"] == "ok" and not (
+                0 < float(r["steady_per_step_s"]) <= float(r["wall_per_step_s"])
+                and abs(float(r["steady_per_step_s"]) * float(r["steps"]) + float(r["analysis_s"])
+                        - float(r["wall_per_step_s"]) * float(r["steps"]))
+                <= 1e-4 * float(r["total_s"]) + 1e-6 * float(r["steps"])):
+            fail(f"steady_per_step_s is not the step time without the analysis: {r}")
     # the chain families carry the mechanism columns: exact joints stay at
     # round-off, compliant ones drift, and neither gains energy
     for r in rows:
