@@ -8,8 +8,13 @@
 #include <superdex/core/config.h>
 #include <superdex/linsolve/cholmod_solver.h>
 #include <superdex/linsolve/dense_solver.h>
+#include <superdex/linsolve/petsc_mumps_solver.h>
 #include <superdex/linsolve/petsc_pcg_solver.h>
 #include <superdex/linsolve/petsc_runtime.h>
+
+#if SUPERDEX_HAS_PETSC
+#include <petscconf.h>  // PETSC_HAVE_MUMPS
+#endif
 
 namespace superdex {
 
@@ -105,6 +110,8 @@ std::string_view ToString(LinearSolverType type) {
       return "PetscPcg";
     case LinearSolverType::Dense:
       return "Dense";
+    case LinearSolverType::PetscMumps:
+      return "PetscMumps";
   }
   return "Unknown";
 }
@@ -280,6 +287,9 @@ DynamicArray<LinearSolverType> AvailableLinearSolvers() {
 #if SUPERDEX_HAS_PETSC
   types.push_back(LinearSolverType::PetscPcg);
 #endif
+#if SUPERDEX_HAS_PETSC && defined(PETSC_HAVE_MUMPS)
+  types.push_back(LinearSolverType::PetscMumps);
+#endif
   types.push_back(LinearSolverType::Dense);
   return types;
 }
@@ -322,6 +332,16 @@ std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, PcgParam
 #endif
     case LinearSolverType::Dense:
       return std::make_unique<internal::DenseCholeskySolver>();
+    case LinearSolverType::PetscMumps:
+#if SUPERDEX_HAS_PETSC && defined(PETSC_HAVE_MUMPS)
+      if (!internal::EnsurePetscInitialized(error)) return nullptr;
+      return std::make_unique<internal::PetscMumpsSolver>();
+#else
+      error.Set(ErrorCode::NotSupported,
+                "CreateLinearSolver: type PetscMumps is not compiled into this build of SuperDex "
+                "(PETSc without MUMPS)");
+      return nullptr;
+#endif
   }
   error.Set(ErrorCode::InvalidArgument,
             "CreateLinearSolver: type must be a LinearSolverType, got the value " +

@@ -33,6 +33,8 @@ enum class LinearSolverType {
   Cholmod,   ///< SuiteSparse CHOLMOD supernodal Cholesky
   PetscPcg,  ///< PETSc preconditioned conjugate gradients (KSPCG), see PcgParams
   Dense,     ///< dense Cholesky (Eigen), for tiny systems
+  PetscMumps,  ///< MUMPS multifrontal LDLᵀ through PETSc (petsc_mumps_solver.h): the
+               ///< direct solver that also runs across MPI ranks
 };
 
 std::string_view ToString(LinearSolverType type);

@@ -123,19 +123,6 @@ bool ParseOptions(std::string const& text, DynamicArray<OptionPair>& pairs, std:
   return true;
 }
 
-std::string PetscMessage(PetscErrorCode code) {
-  char const* text = nullptr;
-  PetscErrorMessage(code, &text, nullptr);
-  return text ? text : "unknown PETSc error";
-}
-
-LinearSolveResult Failure(LinearSolveStatus status, std::string reason) {
-  LinearSolveResult result;
-  result.status = status;
-  result.reason = std::move(reason);
-  return result;
-}
-
 char const* PcTypeName(PcgPreconditioner preconditioner) {
   switch (preconditioner) {
     case PcgPreconditioner::None: return PCNONE;
@@ -161,14 +148,6 @@ bool IsRodDominated(SparseSymmetricMatrix const& a) {
 std::atomic<int> nextSolverId{0};
 
 }  // namespace
-
-// Returns a BackendError result naming the PETSc call when it fails.
-#define SUPERDEX_PETSC(call)                                                                   \
-  do {                                                                                         \
-    if (PetscErrorCode const code_ = (call); code_ != 0)                                       \
-      return Failure(LinearSolveStatus::BackendError,                                          \
-                     std::string("PETSc ") + #call + " failed: " + PetscMessage(code_));       \
-  } while (false)
 
 PetscPcgSolver::PetscPcgSolver(PcgParams const& params) : params_(params), impl_(new Impl) {
   impl_->prefix = "sdx" + std::to_string(nextSolverId++) + "_";
@@ -344,7 +323,7 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
     IncompleteCholesky::Result const analyzed =
         impl.incomplete.Analyze(a, params_.iccLevels, groupSizes);
     if (!analyzed.ok)
-      return Failure(LinearSolveStatus::InvalidInput, "incomplete Cholesky: " + analyzed.reason);
+      return SolveFailure(LinearSolveStatus::InvalidInput, "incomplete Cholesky: " + analyzed.reason);
     SUPERDEX_PETSC(PCSetType(pc, PCSHELL));
     SUPERDEX_PETSC(PCShellSetContext(pc, &impl.incomplete));
     SUPERDEX_PETSC(PCShellSetApply(pc, ApplyIncompleteCholesky));
@@ -441,7 +420,7 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
     IncompleteCholesky::Result const factored = impl.incomplete.Factorize(a);
     if (!factored.ok) {
       LinearSolveResult result =
-          Failure(LinearSolveStatus::NotPositiveDefinite,
+          SolveFailure(LinearSolveStatus::NotPositiveDefinite,
                   "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) + ": " +
                       factored.reason);
       result.failingColumn = factored.failingColumn;
@@ -464,7 +443,7 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
     // every PCFailedReason is a factorization breaking down inside the
     // preconditioner (an AMG coarse-grid or smoother factorization): what an indefinite matrix causes, and what Newton
     // answers by projecting the element Hessians
-    return Failure(LinearSolveStatus::NotPositiveDefinite,
+    return SolveFailure(LinearSolveStatus::NotPositiveDefinite,
                    "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) +
                        " set-up failed: PC_" + PCFailedReasons[failed] +
                        " (a factorization inside it broke down: the matrix is not positive "
@@ -480,7 +459,7 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
       SUPERDEX_PETSC(PetscOptionsUsed(nullptr, impl.userNames[i].c_str() + 1, &used));
       if (!used) {
         std::string const option = "-" + impl.userNames[i].substr(1 + impl.prefix.size());
-        return Failure(LinearSolveStatus::InvalidInput,
+        return SolveFailure(LinearSolveStatus::InvalidInput,
                        "PcgParams.options: PETSc did not use the option '" + option +
                            "' (unknown, or not applicable to preconditioner " +
                            std::string(ToString(params_.preconditioner)) + ")");
@@ -500,7 +479,7 @@ LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
   PetscErrorCode const code = KSPSolve(impl.ksp, impl.rhs, impl.solution);
   VecResetArray(impl.solution);
   if (code != 0)
-    return Failure(LinearSolveStatus::BackendError, "PETSc KSPSolve failed: " + PetscMessage(code));
+    return SolveFailure(LinearSolveStatus::BackendError, "PETSc KSPSolve failed: " + PetscErrorText(code));
 
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
   PetscInt iterations = 0;
@@ -541,8 +520,6 @@ LinearSolveResult PetscPcgSolver::DoResume(Span<real const> b, Span<real> x) {
   SUPERDEX_PETSC(KSPSetInitialGuessNonzero(impl_->ksp, PETSC_FALSE));
   return result;
 }
-
-#undef SUPERDEX_PETSC
 
 }  // namespace superdex::internal
 

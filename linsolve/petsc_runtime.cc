@@ -90,4 +90,17 @@ bool IsPetscFinalized() {
   return finalized == PETSC_TRUE;
 }
 
+std::string PetscErrorText(int code) {
+  char const* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  return text ? text : "unknown PETSc error";
+}
+
+LinearSolveResult SolveFailure(LinearSolveStatus status, std::string reason) {
+  LinearSolveResult result;
+  result.status = status;
+  result.reason = std::move(reason);
+  return result;
+}
+
 }  // namespace superdex::internal

@@ -17,7 +17,10 @@
 // destroy calls: IsPetscFinalized() tells them.
 #pragma once
 
+#include <string>
+
 #include <superdex/core/error.h>
+#include <superdex/linsolve/linear_solver.h>
 
 namespace superdex::internal {
 
@@ -28,5 +31,25 @@ bool EnsurePetscInitialized(Error& error);
 
 /// True once PETSc has been finalized (by SuperDex or the host).
 bool IsPetscFinalized();
+
+/// PETSc's message for an error code (PetscErrorMessage).
+std::string PetscErrorText(int code);
+
+/// A result of `status` with `reason`.
+LinearSolveResult SolveFailure(LinearSolveStatus status, std::string reason);
+
+}  // namespace superdex::internal
+
+/// In the PETSc backends' .cc files (PETSc's headers included): returns a
+/// kBackendError result naming the PETSc call when it fails.
+#define SUPERDEX_PETSC(call)                                                                   \
+  do {                                                                                         \
+    if (PetscErrorCode const code_ = (call); code_ != 0)                                       \
+      return ::superdex::internal::SolveFailure(                                               \
+          ::superdex::LinearSolveStatus::BackendError,                                         \
+          std::string("PETSc ") + #call + " failed: " + ::superdex::internal::PetscErrorText(code_)); \
+  } while (false)
+
+namespace superdex::internal {
 
 }  // namespace superdex::internal

@@ -97,7 +97,7 @@ def test_every_enum_value_is_bound():
     assert list(mochi.JointType.__members__) == ["Fixed", "Revolute", "Prismatic", "Spherical", "Free"]
     assert list(mochi.ActorType.__members__) == ["Rigid", "Deformable", "Rod", "Articulated"]
     assert list(mochi.IntegratorType.__members__) == ["BackwardEuler", "Bdf2"]
-    assert list(mochi.LinearSolverType.__members__) == ["Auto", "Cholmod", "PetscPcg", "Dense"]
+    assert list(mochi.LinearSolverType.__members__) == ["Auto", "Cholmod", "PetscPcg", "Dense", "PetscMumps"]
     assert len(mochi.PcgPreconditioner.__members__) == 7
     assert list(mochi.ConstraintHessian.__members__) == [
         "SceneDefault", "GaussNewton", "GeometricStiffness", "GeometricStiffnessDiagonal"]

@@ -303,6 +303,7 @@ def test_every_linear_solver_gives_the_same_motion():
 
     solvers = mochi.available_linear_solvers()
     assert mochi.LinearSolverType.Cholmod in solvers and mochi.LinearSolverType.Dense in solvers
+    assert mochi.LinearSolverType.PetscMumps in solvers  # Debian's PETSc has MUMPS
     reference_scene, reference = run(mochi.LinearSolverType.Dense)
     for solver in solvers:
         scene, position = run(solver)
@@ -324,7 +325,7 @@ def test_standalone_linear_solver():
     a = mochi.SparseSymmetricMatrix(size=2, col_start=[0, 1, 3], row_index=[0, 0, 1], values=[4.0, 1.0, 3.0],
                                     pattern_version=1)
     assert a.num_nonzeros() == 3
-    for solver_type in [mochi.LinearSolverType.Dense, mochi.LinearSolverType.Cholmod]:
+    for solver_type in [mochi.LinearSolverType.Dense, mochi.LinearSolverType.Cholmod, mochi.LinearSolverType.PetscMumps]:
         solver = mochi.create_linear_solver(solver_type)
         assert solver.get_type() == solver_type
         result, _ = solver.solve([1.0, 2.0])

@@ -54,7 +54,8 @@ Outcome Squash(HessianProjection projection, LinearSolverType solver) {
 
 TEST_CASE("exact element Hessians with a projected fallback converge in fewer Newton iterations",
           "[scene][newton][projection]") {
-  LinearSolverType const solver = GENERATE(LinearSolverType::Cholmod, LinearSolverType::PetscPcg);
+  LinearSolverType const solver = GENERATE(LinearSolverType::Cholmod, LinearSolverType::PetscPcg,
+                                                LinearSolverType::PetscMumps);
   CAPTURE(ToString(solver));
   Outcome const exact = Squash(HessianProjection::WhenIndefinite, solver);
   Outcome const projected = Squash(HessianProjection::Always, solver);

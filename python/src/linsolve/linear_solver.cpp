@@ -14,7 +14,9 @@ void DefineLinearSolver(py::module_& m) {
       .value("Cholmod", LinearSolverType::Cholmod, "SuiteSparse CHOLMOD supernodal Cholesky")
       .value("PetscPcg", LinearSolverType::PetscPcg,
              "PETSc preconditioned CG (KSPCG), see PcgParams")
-      .value("Dense", LinearSolverType::Dense, "dense Cholesky (Eigen), for tiny systems");
+      .value("Dense", LinearSolverType::Dense, "dense Cholesky (Eigen), for tiny systems")
+      .value("PetscMumps", LinearSolverType::PetscMumps,
+             "MUMPS multifrontal LDL^T through PETSc, the direct solver that also runs across MPI ranks");
 
   py::enum_<PcgPreconditioner>(m, "PcgPreconditioner",
                                "Preconditioners of the PETSc PCG backend (docs/linear_solvers.md).")
