@@ -3,6 +3,7 @@
 #include "run.h"
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -300,7 +301,7 @@ std::array<std::string_view, kNumColumns> const kColumnNames{
     "end_time", "newton_iterations", "linear_iterations", "linear_solves", "truncated_solves", "factorizations", "reused_solves", "near_rigid_capped", "pattern_builds",
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
     "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
-    "steady_per_step_s", "total_s", "peak_rss_mb", "error", "reference", "joint_drift", "energy_gain", "status",
+    "steady_per_step_s", "total_s", "peak_rss_mb", "scene_rss_mb", "error", "reference", "joint_drift", "energy_gain", "status",
     "reason"};
 // clang-format on
 
@@ -533,6 +534,16 @@ double PeakRssMb() {
   return usage.ru_maxrss / 1024.0;  // KiB on Linux
 }
 
+/// Resident memory now [MB] (/proc/self/statm), or -1 where it cannot be read.
+double ResidentMb() {
+  std::FILE* file = std::fopen("/proc/self/statm", "r");
+  if (!file) return -1;
+  long size = 0, resident = 0;
+  int const read = std::fscanf(file, "%ld %ld", &size, &resident);
+  std::fclose(file);
+  return read == 2 ? resident * (sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0)) : -1;
+}
+
 }  // namespace
 
 Row ExecuteRun(RunSpec const& spec) {
@@ -587,6 +598,9 @@ Row ExecuteRun(RunSpec const& spec) {
   if (!BuildFamilyScene(spec.family, spec.size, spec.stiffnessRatio, params, fs, error))
     return finish("failed", Reason(error, "set-up"));
   row[kDofs] = Cell(fs.scene->GetNumDofs());
+  // the scene's description and state, before the first step builds the
+  // pattern, the solver's objects and the factor
+  if (double const resident = ResidentMb(); resident >= 0) row[kSceneRssMb] = Cell(resident, 4);
 
   Totals totals;
   MechanismWatch watch(fs);
