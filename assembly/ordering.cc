@@ -76,5 +76,56 @@ bool OrderBlocks(BlockGraph const& graph, OrderingMethod method, DynamicArray<in
   return true;
 }
 
+bool PartitionBlocks(BlockGraph const& graph, int numParts, DynamicArray<int>& partOfBlock, Error& error) {
+  if (numParts < 1) {
+    error.Set(ErrorCode::InvalidArgument, "numParts must be >= 1, got " + std::to_string(numParts));
+    return false;
+  }
+  idx_t numBlocks = static_cast<idx_t>(graph.blockSizes.size());
+  partOfBlock.assign(numBlocks, 0);
+  if (numParts == 1 || numBlocks == 0) return true;
+  if (numBlocks < numParts || graph.adjacency.empty()) {
+    // contiguous runs: block b goes to the part its DoF midpoint falls in
+    long total = 0;
+    for (int size : graph.blockSizes) total += size;
+    long before = 0;
+    for (idx_t b = 0; b < numBlocks; ++b) {
+      long const middle = 2 * before + graph.blockSizes[b];  // twice the midpoint
+      partOfBlock[b] = static_cast<int>(std::min<long>(numParts - 1, middle * numParts / (2 * total)));
+      before += graph.blockSizes[b];
+    }
+    return true;
+  }
+  DynamicArray<idx_t> xadj(graph.adjacencyStart.begin(), graph.adjacencyStart.end());
+  DynamicArray<idx_t> adjncy(graph.adjacency.begin(), graph.adjacency.end());
+  DynamicArray<idx_t> vwgt(graph.blockSizes.begin(), graph.blockSizes.end());
+  DynamicArray<idx_t> part(numBlocks);
+  idx_t numConstraints = 1, parts = numParts, edgeCut = 0;
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_NUMBERING] = 0;
+  int const status = METIS_PartGraphKway(&numBlocks, &numConstraints, xadj.data(), adjncy.data(), vwgt.data(),
+                                         nullptr, nullptr, &parts, nullptr, nullptr, options, &edgeCut,
+                                         part.data());
+  if (status != METIS_OK) {
+    error.Set(ErrorCode::BackendError, "METIS_PartGraphKway failed with status " + std::to_string(status) +
+                                           " on a block graph of " + std::to_string(numBlocks) +
+                                           " vertices into " + std::to_string(numParts) + " parts");
+    return false;
+  }
+  for (idx_t b = 0; b < numBlocks; ++b) partOfBlock[b] = static_cast<int>(part[b]);
+  return true;
+}
+
+void PartitionMajorOrder(DynamicArray<int> const& blockOrder, DynamicArray<int> const& partOfBlock,
+                         int numParts, DynamicArray<int>& order, DynamicArray<int>& partStart) {
+  partStart.assign(numParts + 1, 0);
+  for (int block : blockOrder) ++partStart[partOfBlock[block] + 1];
+  for (int p = 0; p < numParts; ++p) partStart[p + 1] += partStart[p];
+  DynamicArray<int> next(partStart.begin(), partStart.end() - 1);
+  order.resize(blockOrder.size());
+  for (int block : blockOrder) order[next[partOfBlock[block]]++] = block;
+}
+
 }  // namespace internal
 }  // namespace superdex

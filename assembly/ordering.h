@@ -42,5 +42,23 @@ BlockGraph BuildBlockGraph(DynamicArray<int> const& blockSizes, DynamicArray<int
 bool OrderBlocks(BlockGraph const& graph, OrderingMethod method, DynamicArray<int>& blockOrder,
                  Error& error);
 
+/// Splits the blocks into `numParts` parts of about equal DoF counts with
+/// few coupled pairs across parts: METIS k-way (METIS_PartGraphKway, METIS's
+/// default 3 % imbalance, its fixed seed: the same parts on every call and
+/// every rank), each block weighted by its DoFs. With one part, fewer
+/// blocks than parts or a graph without edges, the blocks are cut into
+/// contiguous runs of about equal DoFs instead. partOfBlock[b] is in
+/// [0, numParts). Returns false and sets `error` (InvalidArgument when
+/// numParts < 1, BackendError when METIS fails).
+/// The partition of the DoFs among MPI ranks (docs/distributed.md).
+bool PartitionBlocks(BlockGraph const& graph, int numParts, DynamicArray<int>& partOfBlock, Error& error);
+
+/// Partition-major order of the blocks: part 0's blocks first, then part
+/// 1's, ..., each part's in their relative order in `blockOrder` (a
+/// fill-reducing order within every part). order[newPosition] = block;
+/// partStart[p] is part p's first position (numParts + 1 entries).
+void PartitionMajorOrder(DynamicArray<int> const& blockOrder, DynamicArray<int> const& partOfBlock,
+                         int numParts, DynamicArray<int>& order, DynamicArray<int>& partStart);
+
 }  // namespace internal
 }  // namespace superdex
