@@ -11,8 +11,8 @@ namespace superdex::internal {
 
 struct PetscMumpsSolver::Impl {
   Mat matrix = nullptr;    ///< SeqSBAIJ, A's upper triangle
-  Mat factor = nullptr;    ///< MUMPS's factor, from the first Factorize after Analyze
-  IS order = nullptr;      ///< identity: MUMPS orders A itself
+  Mat factor = nullptr;    ///< MUMPS's factor, analyzed at Analyze
+  IS order = nullptr;      ///< identity (PETSc's API asks for one): MUMPS orders A itself
   Vec rhs = nullptr;       ///< owns its storage; b is copied in
   Vec solution = nullptr;  ///< no storage of its own: wraps the caller's x
   int size = 0;

@@ -49,7 +49,3 @@ LinearSolveResult SolveFailure(LinearSolveStatus status, std::string reason);
           ::superdex::LinearSolveStatus::BackendError,                                         \
           std::string("PETSc ") + #call + " failed: " + ::superdex::internal::PetscErrorText(code_)); \
   } while (false)
-
-namespace superdex::internal {
-
-}  // namespace superdex::internal

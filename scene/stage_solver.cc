@@ -378,18 +378,15 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     for (;;) {
       auto start = Clock::now();
       assembler_.BeginAssembly(gradient);
-      // the actors concurrently as well when staged (each contributor writes
-      // only its own staging slots; each actor's loops nest in the same
-      // threads): scenes of many small actors, such as many rods, would
-      // otherwise run a few chunks at a time
+      // the actors concurrently as well (staged: each contributor writes
+      // only its own slots; each actor's loops nest in the same threads):
+      // scenes of many small actors, such as many rods, would otherwise run
+      // a few chunks at a time
       auto addActors = [&](int begin, int end, int) {
         for (int a = begin; a < end; ++a)
           actors[a]->AddGradientAndHessian(assembler_, firstContributor_[a], project);
       };
-      if (assembler_.IsStaged())
-        executor_.For(static_cast<int>(actors.size()), 1, addActors);
-      else
-        addActors(0, static_cast<int>(actors.size()), 0);
+      assembler_.ParallelFor(static_cast<int>(actors.size()), 1, addActors);
       assembler_.ParallelFor(static_cast<int>(constraints.size()), kConstraintGrain,
                              [&](int begin, int end, int thread) {
                                for (int c = begin; c < end; ++c)
