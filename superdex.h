@@ -2,6 +2,7 @@
 #pragma once
 
 #include <superdex/core/blas_info.h>
+#include <superdex/core/communicator.h>
 #include <superdex/core/config.h>
 #include <superdex/core/error.h>
 #include <superdex/core/handle.h>

@@ -521,6 +521,7 @@ real ArticulatedActor::Energy() const {
 
 void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
                                              int firstContributor, bool projectHessian) const {
+  if (!assembler.Evaluates(firstContributor)) return;
   ComputeKinematics(state_.joints, kinematics_);
   Kinematics const& k = kinematics_;
   int const numLinks = GetNumLinks();

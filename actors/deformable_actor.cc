@@ -279,6 +279,7 @@ void DeformableActor::AddGradientAndHessian(internal::HessianAssembler& assemble
   // inertia and gravity, node by node
   assembler.ParallelFor(numNodes, internal::kNodeGrain, [&](int begin, int end, int) {
     for (int i = begin; i < end; ++i) {
+      if (!assembler.Evaluates(firstContributor + i)) continue;
       Real3 const g = mass_[i] * (weight_ * (state_.displacement[i] - target_[i]) - gravityLocal_);
       assembler.AddGradient(firstContributor + i, g);
       assembler.AddBlock(firstContributor + i, Real33((weight_ * mass_[i]) * Real33::Identity()));
@@ -288,6 +289,7 @@ void DeformableActor::AddGradientAndHessian(internal::HessianAssembler& assemble
     internal::Vector12 g12;
     internal::Matrix12 h12;
     for (int e = begin; e < end; ++e) {
+      if (!assembler.Evaluates(firstTet + e)) continue;
       internal::TetEnergyGradientHessian(material_, lame_, tetRest_[e], Gather<4>(tetrahedra_[e]), g12, h12,
                                          projectHessian);
       assembler.AddGradient(firstTet + e, g12);
@@ -298,6 +300,7 @@ void DeformableActor::AddGradientAndHessian(internal::HessianAssembler& assemble
     internal::Vector9 g9;
     internal::Matrix9 h9;
     for (int e = begin; e < end; ++e) {
+      if (!assembler.Evaluates(firstTriangle + e)) continue;
       internal::MembraneEnergyGradientHessian(lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
                                               Gather<3>(triangles_[e]), g9, h9, projectHessian);
       assembler.AddGradient(firstTriangle + e, g9);
@@ -308,6 +311,7 @@ void DeformableActor::AddGradientAndHessian(internal::HessianAssembler& assemble
     internal::Vector12 g12;
     internal::Matrix12 h12;
     for (int e = begin; e < end; ++e) {
+      if (!assembler.Evaluates(firstHinge + e)) continue;
       internal::BendingEnergyGradientHessian(bendingStiffness_, hingeRest_[e], Gather<4>(hinges_[e]), g12, h12);
       assembler.AddGradient(firstHinge + e, g12);
       assembler.AddBlock(firstHinge + e, h12);

@@ -117,6 +117,7 @@ real RigidActor::Energy() const {
 
 void RigidActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
                                        int firstContributor, bool projectHessian) const {
+  if (!assembler.Evaluates(firstContributor)) return;
   // the exact rotational inertia Hessian adds the curvature of φ(δθ) against
   // w I_b (φ − φ̂), indefinite far from φ̂; projected, the block is the
   // Gauss–Newton one (PSD)

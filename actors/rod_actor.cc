@@ -356,6 +356,7 @@ void RodActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
   // inertia, twist inertia and gravity, node by node
   assembler.ParallelFor(numNodes, internal::kNodeGrain, [&](int begin, int end, int) {
     for (int i = begin; i < end; ++i) {
+      if (!assembler.Evaluates(firstContributor + i)) continue;
       Real3 const g = mass_[i] * (weight_ * (state_.displacement[i] - target_[i]) - gravity_);
       Eigen::Matrix<real, 4, 1> const gradient(g[0], g[1], g[2],
                                                twistInertia_[i] * weight_ * (state_.twist[i] - twistTarget_[i]));
@@ -368,6 +369,7 @@ void RodActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
     internal::Vector6 g6;
     internal::Matrix6 h6;
     for (int e = begin; e < end; ++e) {
+      if (!assembler.Evaluates(firstElement + e)) continue;
       internal::RodStretchGradientHessian(stiffness_.stretch, restLength_[e], Edge(e), g6, h6, projectHessian);
       assembler.AddGradient(firstElement + e, g6);
       assembler.AddBlock(firstElement + e, h6);
@@ -383,10 +385,15 @@ void RodActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
     auto makeFrame = [&](int e, internal::RodFrameDerivatives& frame) {
       internal::MakeRodFrameDerivatives(Edge(e), state_.frames[e], state_.twist[e], frame);
     };
-    if (begin < end) makeFrame(begin, frames[begin % 2]);
+    // (across MPI ranks a stencil that this rank does not evaluate breaks the
+    // chain: the next one it does makes its first frame again)
+    int lastFrame = -1;
     for (int s = begin; s < end; ++s) {
+      if (!assembler.Evaluates(firstStencil + s)) continue;
       int const i = s + 1;  // the stencil's interior node
+      if (lastFrame != i - 1) makeFrame(i - 1, frames[(i - 1) % 2]);
       makeFrame(i, frames[i % 2]);
+      lastFrame = i;
       internal::RodBendTwistGradientHessian(stiffness_, stencilRest_[i - 1], frames[(i - 1) % 2],
                                             frames[i % 2], state_.twist[i - 1], state_.twist[i],
                                             state_.referenceTwist[i - 1], g11, h11, projectHessian);

@@ -15,7 +15,12 @@ std::uint64_t NextPatternVersion() {
 
 bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
                                DynamicArray<DynamicArray<int>> const& contributorDofs,
-                               OrderingMethod method, Error& error) {
+                               OrderingMethod method, Error& error, int numParts, int part) {
+  if (numParts < 1 || part < 0 || part >= numParts) {
+    error.Set(ErrorCode::InvalidArgument, "part " + std::to_string(part) + " of " +
+                                              std::to_string(numParts) + " parts does not exist");
+    return false;
+  }
   // map DoFs to blocks and check the partition
   DynamicArray<int> dofToBlock(numDofs, -1);
   DynamicArray<int> blockStart(blockSizes.size() + 1, 0);
@@ -45,10 +50,40 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
   BlockGraph graph = BuildBlockGraph(blockSizes, dofToBlock, contributorDofs);
   DynamicArray<int> blockOrder;
   if (!OrderBlocks(graph, method, blockOrder, error)) return false;
-  DynamicArray<int> permutation(numDofs);
+  DynamicArray<int> partBlockStart{0, static_cast<int>(blockOrder.size())};
+  if (numParts > 1) {
+    DynamicArray<int> partOfBlock, partitioned;
+    if (!PartitionBlocks(graph, numParts, partOfBlock, error)) return false;
+    PartitionMajorOrder(blockOrder, partOfBlock, numParts, partitioned, partBlockStart);
+    blockOrder = std::move(partitioned);
+  }
+  DynamicArray<int> permutation(numDofs), partRowStart;
   int next = 0;
-  for (int block : blockOrder)
+  for (std::size_t position = 0; position < blockOrder.size(); ++position) {
+    while (static_cast<int>(partRowStart.size()) < numParts &&
+           partBlockStart[partRowStart.size()] == static_cast<int>(position))
+      partRowStart.push_back(next);
+    int const block = blockOrder[position];
     for (int d = blockStart[block]; d < blockStart[block + 1]; ++d) permutation[d] = next++;
+  }
+  while (static_cast<int>(partRowStart.size()) <= numParts) partRowStart.push_back(next);
+
+  // the contributors this part evaluates (one of its DoFs owned) and owns
+  // (its first DoF owned; part 0 owns those without DoFs)
+  DynamicArray<std::uint8_t> evaluated, owned;
+  if (numParts > 1) {
+    int const rowBegin = partRowStart[part], rowEnd = partRowStart[part + 1];
+    auto const isOwned = [&](int dof) {
+      return permutation[dof] >= rowBegin && permutation[dof] < rowEnd;
+    };
+    evaluated.resize(contributorDofs.size());
+    owned.resize(contributorDofs.size());
+    for (std::size_t c = 0; c < contributorDofs.size(); ++c) {
+      auto const& dofs = contributorDofs[c];
+      evaluated[c] = std::any_of(dofs.begin(), dofs.end(), isOwned);
+      owned[c] = dofs.empty() ? part == 0 : isOwned(dofs[0]);
+    }
+  }
 
   // upper-triangle pattern of P H Pᵀ: rows per column, sorted and unique
   DynamicArray<DynamicArray<int>> columns(numDofs);
@@ -98,6 +133,10 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
   // commit
   matrix_ = std::move(matrix);
   permutation_ = std::move(permutation);
+  partRowStart_ = std::move(partRowStart);
+  part_ = part;
+  evaluated_ = std::move(evaluated);
+  owned_ = std::move(owned);
   dofStart_ = std::move(dofStart);
   dofs_ = std::move(dofList);
   slotStart_ = std::move(slotStart);

@@ -44,15 +44,37 @@ class HessianAssembler {
   /// Builds pattern, ordering and slot tables. Every DoF list must hold
   /// distinct indices in [0, numDofs); the block sizes must add to numDofs.
   /// Returns false (and changes nothing) on a METIS failure or bad input.
+  ///
+  /// Across MPI ranks (docs/distributed.md), with numParts > 1: the blocks
+  /// are split into numParts parts (PartitionBlocks), the order is made
+  /// partition-major (part p's rows contiguous, in p order, each part in the
+  /// fill-reducing order), and this process is part `part`: it owns the rows
+  /// GetOwnedRows(), evaluates only the contributors that touch one of them
+  /// (Evaluates), and counts in its share of the energy the contributors
+  /// whose first DoF it owns (Owns). Only entries with an owned row or column
+  /// are then assembled completely; the gradient only in owned DoFs.
   bool Analyze(int numDofs, DynamicArray<int> const& blockSizes,
                DynamicArray<DynamicArray<int>> const& contributorDofs, OrderingMethod method,
-               Error& error);
+               Error& error, int numParts = 1, int part = 0);
 
   bool IsAnalyzed() const { return analyzed_; }
   int GetNumDofs() const { return matrix_.size; }
   int GetNumContributors() const { return static_cast<int>(slotStart_.size()); }
   /// How many times Analyze built a pattern since construction.
   std::int64_t GetNumPatternBuilds() const { return numBuilds_; }
+
+  /// Parts of the partition (1: one process, every contributor evaluated).
+  int GetNumParts() const { return static_cast<int>(partRowStart_.size()) - 1; }
+  /// First ordered row of each part, then GetNumDofs() (GetNumParts() + 1).
+  DynamicArray<int> const& GetPartRowStart() const { return partRowStart_; }
+  int GetOwnedRowBegin() const { return partRowStart_[part_]; }
+  int GetOwnedRowEnd() const { return partRowStart_[part_ + 1]; }
+  /// Whether contributor `c` touches an owned row: actors and constraints
+  /// skip the contributors this returns false for. Always true on one part.
+  bool Evaluates(int c) const { return evaluated_.empty() || evaluated_[c] != 0; }
+  /// Whether contributor `c`'s first DoF is owned (its energy is this part's
+  /// to count). Always true on one part.
+  bool Owns(int c) const { return owned_.empty() || owned_[c] != 0; }
 
   /// The threads of ParallelFor and of the staged sums; nullptr (the
   /// default) or one thread: serial. Staging memory is sized here and at
@@ -145,6 +167,9 @@ class HessianAssembler {
   DynamicArray<int> slotStart_;    ///< per contributor, into slots_
   DynamicArray<int> slots_;        ///< value index of each local upper-triangle entry
   Span<real> gradient_;            ///< of the assembly in progress
+  DynamicArray<int> partRowStart_{0, 0};  ///< per part, its first ordered row; then numDofs
+  int part_ = 0;                          ///< this process's part
+  DynamicArray<std::uint8_t> evaluated_, owned_;  ///< per contributor; empty on one part
 
   // staged assembly (several threads)
   ParallelExecutor const* executor_ = nullptr;

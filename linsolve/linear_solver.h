@@ -18,6 +18,7 @@
 #include <string>
 #include <string_view>
 
+#include <superdex/core/communicator.h>
 #include <superdex/core/error.h>
 #include <superdex/core/types.h>
 #include <superdex/linsolve/sparse_symmetric_matrix.h>
@@ -211,6 +212,22 @@ class LinearSolver {
   /// (the default) runs them on the calling thread. The executor must
   /// outlive the solver's use of it. Results do not depend on it.
   virtual void SetParallelExecutor(internal::ParallelExecutor const* /*executor*/) {}
+  /// Across MPI ranks (docs/distributed.md): the solves run on the ranks of
+  /// `communicator`, this rank owning rows [rowBegin, rowEnd) of the analyzed
+  /// (ordered) matrix; the ranks' ranges are contiguous, in rank order, and
+  /// cover the matrix. Every rank then passes the whole matrix pattern, in
+  /// which only the entries with an owned row or column hold the true values
+  /// (the others hold partial sums and are not read); Solve reads the owned
+  /// entries of b and writes all of x on every rank (gathered). Every call is
+  /// collective and returns the same status on every rank. Set before
+  /// Analyze (it discards any analysis). Returns false, changing nothing,
+  /// for backends that run in one process (CHOLMOD, dense); a communicator of
+  /// one rank is accepted by every backend and changes nothing.
+  bool SetDistribution(Communicator const& communicator, int rowBegin, int rowEnd) {
+    if (!DoSetDistribution(communicator, rowBegin, rowEnd)) return false;
+    analyzed_ = factorized_ = false;
+    return true;
+  }
   /// What really ran, as the backend reports it ("CHOLMOD supernodal", ...).
   virtual std::string GetDescription() const = 0;
   /// Nonzeros of the Cholesky factor L (after Analyze), or -1 if unknown.
@@ -223,6 +240,11 @@ class LinearSolver {
   virtual LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) = 0;
   virtual LinearSolveResult DoSolve(Span<real const> b, Span<real> x) = 0;
   virtual LinearSolveResult DoResume(Span<real const> b, Span<real> x) { return DoSolve(b, x); }
+  /// SetDistribution's backend part (rowBegin <= rowEnd, checked by nobody
+  /// else: the stage solver computes them from its partition).
+  virtual bool DoSetDistribution(Communicator const& communicator, int /*rowBegin*/, int /*rowEnd*/) {
+    return communicator.GetSize() <= 1;
+  }
   virtual LinearSolveResult DoApplyPreconditioner(Span<real const> b, Span<real> x,
                                                   bool /*reducedPrecision*/) {
     return DoSolve(b, x);

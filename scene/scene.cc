@@ -133,6 +133,7 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
     return nullptr;
   }
   std::unique_ptr<Scene> scene(new Scene(params));
+  scene->solver_->SetCommunicator(params.communicator);
   scene->solver_->SetNumThreads(params.numThreads);
   if (!scene->solver_->SetLinearSolver(params.linearSolver, params.pcg, error)) {
     // name the field as the caller wrote it

@@ -7,6 +7,7 @@
 
 #include <superdex/assembly/ordering.h>
 #include <superdex/constraints/constraint.h>
+#include <superdex/core/communicator.h>
 #include <superdex/core/types.h>
 #include <superdex/linsolve/linear_solver.h>
 #include <superdex/scene/integrator.h>
@@ -127,6 +128,16 @@ struct SceneParams {
   /// result, are bit-identical for any thread count (docs/architecture.md,
   /// "Parallel assembly"). >= 0.
   int numThreads = 0;
+  /// The MPI ranks the scene runs on (docs/distributed.md). The default is
+  /// one process. With R > 1 ranks, every rank runs the same program and
+  /// builds the same scene (the description and state are replicated); the
+  /// DoFs are partitioned among the ranks (METIS k-way), each rank assembles
+  /// the rows it owns, the linear solver runs across the ranks (PetscPcg
+  /// without Icc, or PetscMumps; Auto picks PetscMumps), and every rank
+  /// commits the same step. Every call that changes the scene or steps it is
+  /// then collective: all ranks make it, in the same order. A communicator of
+  /// one rank behaves exactly as the default.
+  Communicator communicator;
 };
 
 /// Counters since the scene was created, and figures of the last step.
@@ -179,6 +190,8 @@ struct SceneStats {
   int nearRigidConstraints = 0;
   real gradientNorm = 0;           ///< ‖∇E‖∞ at the last Newton iteration
   int numDofs = 0;
+  int ranks = 1;      ///< MPI ranks of SceneParams::communicator
+  int ownedDofs = 0;  ///< DoFs (Hessian rows) this rank owns: numDofs on one rank
   std::int64_t hessianNonzeros = 0;  ///< stored (upper triangle) entries
   double factorNonzeros = 0;         ///< nnz(L) as the solver reports it
   double factorFlops = 0;

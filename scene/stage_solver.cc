@@ -7,6 +7,7 @@
 #include <superdex/actors/actor.h>
 #include <superdex/core/validate.h>
 #include <superdex/linsolve/cholmod_solver.h>
+#include <superdex/scene/collectives.h>
 
 namespace superdex::internal {
 
@@ -75,7 +76,8 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
     maxDimension = std::max(maxDimension, constraint->GetDimension());
     maxDofs = std::max(maxDofs, constraint->GetNumDofs());
   }
-  if (!assembler_.Analyze(numDofs, blockSizes, contributorDofs, ordering, error)) return false;
+  if (!assembler_.Analyze(numDofs, blockSizes, contributorDofs, ordering, error, numRanks_, rank_))
+    return false;
   ordering_ = ordering;
   firstContributor_ = std::move(firstContributor);
   constraintWorkspace_.Reserve(maxDimension, maxDofs);
@@ -92,10 +94,41 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   newtonStep_.setZero(numDofs);
   correctedStep_.setZero(numDofs);
   reuseCg_.Reserve(numDofs);
+  if (IsDistributed()) {
+    orderedGradient_.setZero(numDofs);
+    rankCounts_.assign(numRanks_, 0);
+    rankDisplacements_.assign(numRanks_, 0);
+  }
   stats.patternBuilds = assembler_.GetNumPatternBuilds();
   stats.numDofs = numDofs;
+  stats.ranks = numRanks_;
+  stats.ownedDofs = assembler_.GetOwnedRowEnd() - assembler_.GetOwnedRowBegin();
   stats.hessianNonzeros = assembler_.GetMatrix().NumNonzeros();
   return true;
+}
+
+void StageSolver::SetCommunicator(Communicator const& communicator) {
+  communicator_ = communicator;
+  numRanks_ = communicator.GetSize();
+  rank_ = communicator.GetRank();
+  solver_.reset();
+}
+
+void StageSolver::GatherGradient() {
+  int const n = static_cast<int>(gradient_.size());
+  assembler_.PermuteToOrdered(Span<real const>(gradient_.data(), n), Span<real>(orderedGradient_.data(), n));
+  AllgatherRows(communicator_, assembler_.GetPartRowStart(), rankCounts_, rankDisplacements_,
+                Span<real>(orderedGradient_.data(), n));
+  assembler_.PermuteToNatural(Span<real const>(orderedGradient_.data(), n), Span<real>(gradient_.data(), n));
+}
+
+LinearSolveResult StageSolver::FactorizeMatrix(SceneStats& stats) {
+  auto const start = Clock::now();
+  LinearSolveResult result = solver_->Factorize(assembler_.GetMatrix());
+  if (IsDistributed()) AgreeOnResult(communicator_, result);
+  stats.factorizationSeconds += SecondsSince(start);
+  ++stats.factorizations;
+  return result;
 }
 
 void StageSolver::SetNumThreads(int numThreads) {
@@ -119,6 +152,20 @@ bool StageSolver::SetLinearSolver(LinearSolverType type, PcgParams const& pcg, E
       return false;
     }
   }
+  if (IsDistributed()) {
+    std::string const ranks = " across the " + std::to_string(numRanks_) + " ranks of SceneParams.communicator";
+    if (type == LinearSolverType::Cholmod || type == LinearSolverType::Dense) {
+      error.Set(ErrorCode::InvalidArgument, "linearSolver " + std::string(ToString(type)) +
+                                                " runs in one process; use PetscPcg or PetscMumps" + ranks);
+      return false;
+    }
+    if (type == LinearSolverType::PetscPcg && pcg.preconditioner == PcgPreconditioner::Icc) {
+      error.Set(ErrorCode::InvalidArgument,
+                "PcgParams.preconditioner Icc (one incomplete factor of the whole matrix) runs in "
+                "one process; use BlockJacobi (IC per rank), Gamg or BoomerAmg" + ranks);
+      return false;
+    }
+  }
   requestedSolver_ = type;
   pcg_ = pcg;
   // a PCG backend with other settings is rebuilt (lazily, at the next solve)
@@ -129,7 +176,10 @@ bool StageSolver::SetLinearSolver(LinearSolverType type, PcgParams const& pcg, E
 bool StageSolver::EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneStats& stats,
                                     Error& error) {
   SparseSymmetricMatrix const& matrix = assembler_.GetMatrix();
-  LinearSolverType const type = ResolveLinearSolverType(requestedSolver_, matrix.size);
+  // across ranks Auto is the distributed direct solver, as CHOLMOD is in one
+  LinearSolverType const type = IsDistributed() && requestedSolver_ == LinearSolverType::Auto
+                                    ? LinearSolverType::PetscMumps
+                                    : ResolveLinearSolverType(requestedSolver_, matrix.size);
   if (!solver_ || solver_->GetType() != type) {
     if (type == LinearSolverType::Cholmod && ordering_ == OrderingMethod::SolverDefault)
       solver_ = std::make_unique<CholmodSolver>(CholmodOrdering::CholmodDefault);
@@ -142,8 +192,14 @@ bool StageSolver::EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneSta
   }
   if (!solver_->IsAnalyzed() || solver_->GetAnalyzedPatternVersion() != matrix.patternVersion) {
     auto const start = Clock::now();
+    if (!solver_->SetDistribution(communicator_, assembler_.GetOwnedRowBegin(), assembler_.GetOwnedRowEnd())) {
+      error.Set(ErrorCode::InvalidArgument, "linear solver " + solver_->GetDescription() +
+                                                " does not run across MPI ranks");
+      return false;
+    }
     std::int64_t const builds = solver_->GetNumObjectBuilds();
     LinearSolveResult result = solver_->Analyze(matrix);
+    if (IsDistributed()) AgreeOnResult(communicator_, result);
     stats.linearSolverObjectBuilds += solver_->GetNumObjectBuilds() - builds;
     if (result.Ok() && solver_->WantsNearNullSpace()) {
       // rigid-body modes at the current configuration, in the solver's order
@@ -175,6 +231,7 @@ LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats, bool resume)
   Span<real const> const rhs(orderedRhs_.data(), orderedRhs_.size());
   Span<real> const solution(orderedSolution_.data(), orderedSolution_.size());
   LinearSolveResult result = resume ? solver_->Resume(rhs, solution) : solver_->Solve(rhs, solution);
+  if (IsDistributed()) AgreeOnResult(communicator_, result);
   assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), orderedSolution_.size()),
                               Span<real>(delta_.data(), delta_.size()));
   stats.solveSeconds += SecondsSince(start);
@@ -201,7 +258,8 @@ int StageSolver::ReuseIterationCap() const {
 
 bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, real tolerance, bool resume,
                                         SceneStats& stats) {
-  if (!newton.reuseFactorization || solver_->IsIterative() || !solver_->IsFactorized() ||
+  // (across ranks the reused-factor CG would need a distributed product: off)
+  if (!newton.reuseFactorization || IsDistributed() || solver_->IsIterative() || !solver_->IsFactorized() ||
       reuseFailuresInRow_ >= kMaxReuseFailures)
     return false;
   int const cap = ReuseIterationCap();
@@ -389,12 +447,18 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       assembler_.ParallelFor(static_cast<int>(actors.size()), 1, addActors);
       assembler_.ParallelFor(static_cast<int>(constraints.size()), kConstraintGrain,
                              [&](int begin, int end, int thread) {
-                               for (int c = begin; c < end; ++c)
+                               for (int c = begin; c < end; ++c) {
+                                 int const contributor = firstContributor_[numConstraintsStart + c];
+                                 if (!assembler_.Evaluates(contributor)) continue;
                                  constraints[c]->AddGradientAndHessian(
-                                     h, assembler_, firstContributor_[numConstraintsStart + c],
-                                     newton.constraintHessian, project, threadWorkspaces_[thread]);
+                                     h, assembler_, contributor, newton.constraintHessian, project,
+                                     threadWorkspaces_[thread]);
+                               }
                              });
       assembler_.FinishAssembly();
+      // across ranks each rank's owned entries of ∇E are complete: every
+      // rank then holds all of ∇E, and the tests below agree on every rank
+      if (IsDistributed()) GatherGradient();
       stats.assemblySeconds += SecondsSince(start);
       stats.gradientNorm = gradient_.lpNorm<Eigen::Infinity>();
       if (!std::isfinite(stats.gradientNorm)) {
@@ -422,10 +486,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
         reusedLoose = reuseTolerance > newton.factorReuseTolerance;
       } else {
         reusedLoose = false;
-        start = Clock::now();
-        result = solver_->Factorize(assembler_.GetMatrix());
-        stats.factorizationSeconds += SecondsSince(start);
-        ++stats.factorizations;
+        result = FactorizeMatrix(stats);
         if (result.Ok()) result = SolveNewtonSystem(stats);
       }
       bool const notDescent = Usable(result) && !(gradient_.dot(delta_) < 0);
@@ -444,10 +505,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
                             result.status == LinearSolveStatus::NotPositiveDefinite;
          shift *= 100) {
       assembler_.ShiftDiagonal(shift);
-      auto const start = Clock::now();
-      result = solver_->Factorize(assembler_.GetMatrix());
-      stats.factorizationSeconds += SecondsSince(start);
-      ++stats.factorizations;
+      result = FactorizeMatrix(stats);
       if (result.Ok()) result = SolveNewtonSystem(stats);
       ++stats.diagonalShifts;
     }
@@ -455,6 +513,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       result.status = LinearSolveStatus::BackendError;
       result.reason = "failure injected by a test";
     }
+    if (IsDistributed()) AgreeOnResult(communicator_, result);
     auto const linearSolverFailed = [&](LinearSolveResult const& failed) {
       std::string detail = failed.reason;
       if (failed.status == LinearSolveStatus::NotPositiveDefinite && failed.failingColumn >= 0)

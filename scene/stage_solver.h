@@ -37,6 +37,12 @@ class StageSolver {
   bool Analyze(DynamicArray<Actor*> const& actors, DynamicArray<Constraint*> const& constraints,
                OrderingMethod ordering, SceneStats& stats, Error& error);
 
+  /// The ranks the stages run on (SceneParams::communicator), before the
+  /// first Analyze: with more than one, each rank assembles its part of the
+  /// rows and the linear solver runs across the ranks (docs/distributed.md).
+  void SetCommunicator(Communicator const& communicator);
+  bool IsDistributed() const { return numRanks_ > 1; }
+
   /// Threads of the assembly (SceneParams::numThreads: 0 = every CPU this
   /// process may use); the assembled values do not depend on it.
   void SetNumThreads(int numThreads);
@@ -60,6 +66,10 @@ class StageSolver {
 
  private:
   void ReserveThreadWorkspaces();
+  /// Factorizes the assembled matrix (counted and timed in `stats`).
+  LinearSolveResult FactorizeMatrix(SceneStats& stats);
+  /// Across ranks: every rank's owned entries of gradient_ to every rank.
+  void GatherGradient();
   real TotalEnergy(DynamicArray<Actor*> const& actors, DynamicArray<Constraint*> const& constraints,
                    real h);
   bool EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneStats& stats, Error& error);
@@ -118,6 +128,11 @@ class StageSolver {
   int reuseFailuresInRow_ = 0;  ///< reused-factor solves that did not converge, this stage
   real energyScale_ = 0;     ///< Σ|terms| of Eᵢ at the last TotalEnergy
   FaultInjection fault_;
+  // across MPI ranks (IsDistributed)
+  Communicator communicator_;
+  int numRanks_ = 1, rank_ = 0;
+  VectorX orderedGradient_;                  ///< gradient_ in the partition-major order
+  DynamicArray<int> rankCounts_, rankDisplacements_;  ///< MPI_Allgatherv scratch
 };
 
 }  // namespace superdex::internal

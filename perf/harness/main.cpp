@@ -507,6 +507,8 @@ int RunCommand(std::vector<std::string> const& args) {
     if (name == "--format") json = value == "json";
   }
   Row const row = ExecuteRun(spec);
+  // on several MPI ranks, rank 0 reports for the job
+  if (LaunchRank() != 0) return row[kStatus] == "failed" ? 1 : 0;
   bool const written = resultFd >= 0 ? WriteAll(resultFd, CsvLine(row) + "\n")
                        : json        ? WriteAll(STDOUT_FILENO, JsonObject(row) + "\n")
                               : WriteAll(STDOUT_FILENO, CsvHeader() + "\n" + CsvLine(row) + "\n");

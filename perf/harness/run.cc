@@ -14,6 +14,8 @@
 #include <cstring>
 #include <fstream>
 
+#include <superdex/core/mpi.h>
+
 #include "families.h"
 
 namespace superdex::perf {
@@ -301,7 +303,7 @@ std::array<std::string_view, kNumColumns> const kColumnNames{
     "end_time", "newton_iterations", "linear_iterations", "linear_solves", "truncated_solves", "factorizations", "reused_solves", "near_rigid_capped", "pattern_builds",
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
     "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
-    "steady_per_step_s", "total_s", "peak_rss_mb", "scene_rss_mb", "error", "reference", "joint_drift", "energy_gain", "status",
+    "steady_per_step_s", "total_s", "ranks", "owned_dofs", "peak_rss_mb", "scene_rss_mb", "error", "reference", "joint_drift", "energy_gain", "status",
     "reason"};
 // clang-format on
 
@@ -544,17 +546,40 @@ double ResidentMb() {
   return read == 2 ? resident * (sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0)) : -1;
 }
 
+/// Set by a launcher: OpenMPI's, MPICH's/hydra's (PMI) and PMIx's rank
+char const* LauncherRank() {
+  for (char const* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
+    if (char const* value = std::getenv(name)) return value;
+  return nullptr;
+}
+
 }  // namespace
+
+int LaunchRank() {
+  char const* rank = LauncherRank();
+  return rank ? std::atoi(rank) : 0;
+}
 
 Row ExecuteRun(RunSpec const& spec) {
   auto const start = std::chrono::steady_clock::now();
   Row row = RowFromSpec(spec);
+  Error error;
+  SceneParams params;
+  // under a launcher the scene runs on the job's ranks
+  if (LauncherRank()) params.communicator = Communicator::World(error);
+
   auto finish = [&](std::string_view status, std::string_view reason) {
     row[kStatus] = status;
     if (!reason.empty()) row[kReason] = OneLine(reason);
     row[kTotalS] =
         Cell(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    row[kPeakRssMb] = Cell(PeakRssMb(), 4);
+    // across ranks: the largest rank's memory (every rank holds the
+    // replicated scene and its part of the rest)
+    double peak = PeakRssMb();
+    if (params.communicator.GetSize() > 1)
+      MPI_Allreduce(MPI_IN_PLACE, &peak, 1, MPI_DOUBLE, MPI_MAX, ToMpiComm(params.communicator));
+    row[kPeakRssMb] = Cell(peak, 4);
+    row[kRanks] = Cell(params.communicator.GetSize());
     return row;
   };
 
@@ -567,7 +592,7 @@ Row ExecuteRun(RunSpec const& spec) {
   if (method.solver == LinearSolverType::Dense && dofs > kDenseMaxDofs)
     return finish("skipped", "dense only up to " + std::to_string(kDenseMaxDofs) + " DoFs");
 
-  SceneParams params;
+  if (error) return finish("failed", Reason(error, "set-up"));
   params.integrator =
       spec.integrator == "bdf2" ? IntegratorType::Bdf2 : IntegratorType::BackwardEuler;
   params.newton.velocityTolerance = spec.newtonTol;
@@ -586,7 +611,6 @@ Row ExecuteRun(RunSpec const& spec) {
   params.pcg = method.pcg;
   params.ordering = method.ordering;
 
-  Error error;
   // PETSc (and MPI) start once per process, on the first PETSc solver created:
   // ~0.3 s here, which the first Step would otherwise carry in no phase (it
   // would land in other_s). An application pays it once, not per step, so it
@@ -612,6 +636,7 @@ Row ExecuteRun(RunSpec const& spec) {
     watch.Update();
   }
   FillMeasured(row, totals, done, fs.scene->GetStats());
+  row[kOwnedDofs] = Cell(fs.scene->GetStats().ownedDofs);
   watch.Fill(row);
   if (!ok) return finish("failed", Reason(error, "step " + std::to_string(done + 1)));
   HandleReference(spec, fs, row);

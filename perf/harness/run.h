@@ -117,10 +117,16 @@ enum Column : int {
   kPreconditioner, kRtol, kNewtonTol, kConstraintHessian, kNearRigid, kIntegrator, kDt, kSteps, kEndTime,
   kNewtonIterations, kLinearIterations, kLinearSolves, kTruncatedSolves, kFactorizations, kReusedSolves, kNearRigidCapped, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
   kNnzH, kNnzL, kFactorFlops, kAnalysisS, kAssemblyS, kFactorizationS, kSolveS, kLineSearchS,
-  kOtherS, kWallPerStepS, kSteadyPerStepS, kTotalS, kPeakRssMb, kSceneRssMb, kError, kReference, kJointDrift, kEnergyGain,
+  kOtherS, kWallPerStepS, kSteadyPerStepS, kTotalS, kRanks, kOwnedDofs, kPeakRssMb, kSceneRssMb, kError, kReference, kJointDrift, kEnergyGain,
   kStatus, kReason, kNumColumns
 };
 // clang-format on
+
+/// This process's rank in the MPI job that launched it (mpirun, mpiexec:
+/// their environment says so), or 0 outside one. Under a launcher ExecuteRun
+/// runs the scene on the job's ranks (SceneParams::communicator) and every
+/// rank must call it; only rank 0 reports.
+int LaunchRank();
 
 /// Column names (the CSV header, the JSON keys).
 extern std::array<std::string_view, kNumColumns> const kColumnNames;
