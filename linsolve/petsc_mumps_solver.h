@@ -1,7 +1,8 @@
 // PetscMumpsSolver: the LinearSolver backend on MUMPS, the multifrontal
 // direct solver, through PETSc's interface to it (MATSOLVERMUMPS) — the
-// direct solver that runs across MPI ranks, here on one (PETSC_COMM_SELF),
-// so that the harness can compare it with CHOLMOD on the same matrices.
+// direct solver that runs across MPI ranks: on one (PETSC_COMM_SELF) by
+// default, so that the harness can compare it with CHOLMOD on the same
+// matrices, and on the ranks SetDistribution gives (below).
 //
 // Analyze (once per pattern) creates the SeqSBAIJ matrix of A's upper
 // triangle (block size 1: MUMPS takes symmetric matrices as triples of one
@@ -19,6 +20,17 @@
 // ICNTL(24) = 1) decides: any negative or null pivot is kNotPositiveDefinite,
 // as CHOLMOD's failed Cholesky is — without a failing column (-1), which
 // pivoting leaves undefined.
+//
+// Across R > 1 ranks (SetDistribution; docs/linear_solvers.md "Across MPI
+// ranks"): the matrix is the MPIAIJ of the owned rows, both triangles
+// (PetscDistributedMatrix, shared with the PCG backend; PETSc's MUMPS
+// interface extracts the upper triangle for the LDLᵀ factor), its values
+// set in place by MatSetValuesCOO at each Factorize. The analysis is the
+// same, plus ICNTL(13) = 1 (no ScaLAPACK on the root front, so that INFOG(12)
+// counts every negative pivot). INFOG and the inertia are global, so every
+// rank returns the same status (any rank's PETSc error is agreed on too);
+// Solve takes b's owned entries and gathers all of x onto every rank.
+// GetDescription ends in "on R ranks".
 //
 // Allocation: Analyze allocates the PETSc objects; MUMPS allocates its
 // frontal matrices and factor inside each numeric factorization (Fortran
@@ -56,6 +68,8 @@ class PetscMumpsSolver final : public LinearSolver {
   LinearSolveResult DoAnalyze(SparseSymmetricMatrix const& a) override;
   LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) override;
   LinearSolveResult DoSolve(Span<real const> b, Span<real> x) override;
+  /// Stores the ranks and rows for the next Analyze; always accepted.
+  bool DoSetDistribution(Communicator const& communicator, int rowBegin, int rowEnd) override;
 
  private:
   struct Impl;  // the PETSc objects (petsc_mumps_solver.cc)

@@ -11,8 +11,10 @@
 
 #include <petscksp.h>
 
+#include <superdex/core/mpi.h>
 #include <superdex/core/validate.h>
 #include <superdex/linsolve/incomplete_cholesky.h>
+#include <superdex/linsolve/petsc_distributed_matrix.h>
 #include <superdex/linsolve/petsc_runtime.h>
 
 namespace superdex::internal {
@@ -40,10 +42,10 @@ PetscErrorCode ApplyIncompleteCholesky(PC pc, Vec r, Vec z) {
 }  // namespace
 
 struct PetscPcgSolver::Impl {
-  Mat matrix = nullptr;
+  Mat matrix = nullptr;    ///< SeqAIJ, or the distributed MPIAIJ (a reference to it)
   KSP ksp = nullptr;
-  Vec rhs = nullptr;       ///< owns its storage; b is copied in
-  Vec solution = nullptr;  ///< no storage of its own: wraps the caller's x
+  Vec rhs = nullptr;       ///< one rank: owns its storage; b is copied in
+  Vec solution = nullptr;  ///< one rank: no storage of its own: wraps the caller's x
   int size = 0;
   /// AIJ value position of each upper-triangle CSC entry k of A, as entry
   /// (i, j) of row i, and as its mirror (j, i) of row j (-1 on the diagonal)
@@ -62,15 +64,33 @@ struct PetscPcgSolver::Impl {
   IncompleteCholesky incomplete;
   bool incompleteFactored = false;
 
+  /// SetDistribution; on more than one rank the matrix, its vectors and the
+  /// gather of x are `distributed`'s
+  RowDistribution distribution;
+  PetscDistributedMatrix distributed;
+  /// BlockJacobi on more than one rank: the diagonal block of the owned rows
+  /// (upper CSC, local numbering), which `incomplete` factors on this rank,
+  /// and A's value index of each of its entries
+  SparseSymmetricMatrix ownedBlock;
+  DynamicArray<int> ownedBlockSource;
+
+  bool IsDistributed() const { return distribution.IsDistributed(); }
+  LinearSolveResult CreateSequentialMatrix(SparseSymmetricMatrix const& a);
+  LinearSolveResult CreateDistributedMatrix(SparseSymmetricMatrix const& a);
+  void BuildOwnedBlock(SparseSymmetricMatrix const& a);
+  void SetDistributedNearNullSpace(MatrixX const& modes);
+
   void DestroyObjects() {
     if (IsPetscFinalized()) {  // PETSc is gone; so are its objects
       matrix = nullptr, ksp = nullptr, rhs = nullptr, solution = nullptr;
+      distributed.Destroy();
       return;
     }
     KSPDestroy(&ksp);
     MatDestroy(&matrix);
     VecDestroy(&rhs);
     VecDestroy(&solution);
+    distributed.Destroy();
   }
   void ClearOptions() {
     if (IsPetscFinalized()) return;
@@ -145,6 +165,23 @@ bool IsRodDominated(SparseSymmetricMatrix const& a) {
   return a.size > 0 && 2 * rodDofs > a.size;
 }
 
+// Block Jacobi's groups: `numGroups` contiguous runs of whole DoF blocks
+// (`blockSizes`, adding to `size`) with about equal DoF counts
+DynamicArray<int> BlockJacobiGroups(Span<int const> blockSizes, int size, int numGroups) {
+  DynamicArray<int> groupSizes;
+  int start = 0, dof = 0;
+  for (int blockSize : blockSizes) {
+    dof += blockSize;
+    long const target = static_cast<long>(size) * (static_cast<long>(groupSizes.size()) + 1) / numGroups;
+    if (dof >= target) {
+      groupSizes.push_back(dof - start);
+      start = dof;
+    }
+  }
+  if (dof > start) groupSizes.push_back(dof - start);
+  return groupSizes;
+}
+
 std::atomic<int> nextSolverId{0};
 
 }  // namespace
@@ -170,6 +207,10 @@ std::string PetscPcgSolver::GetDescription() const {
     text += impl_->hasNearNullSpace ? " (rigid-body near-null space)" : " (no near-null space)";
   text += ", rtol " + std::string(rtol);
   if (params_.adaptiveTolerance) text += " (adaptive)";
+  if (impl_->IsDistributed()) {
+    text += " on " + std::to_string(impl_->distribution.GetNumRanks()) + " ranks";
+    if (params_.preconditioner == PcgPreconditioner::BlockJacobi) text += " (IC(k) blocks within each rank)";
+  }
   return text;
 }
 
@@ -191,6 +232,7 @@ bool PetscPcgSolver::WantsNearNullSpace() const {
 void PetscPcgSolver::SetNearNullSpace(MatrixX const& modes) {
   Impl& impl = *impl_;
   if (!impl.matrix || modes.rows() != impl.size || modes.cols() == 0) return;
+  if (impl.IsDistributed()) return impl.SetDistributedNearNullSpace(modes);
   // orthonormal basis of the modes' span (PETSc requires it), dropping
   // directions that are numerically dependent (e.g. rotations of one node)
   // (a system of fewer unknowns than modes, e.g. one revolute joint against
@@ -220,15 +262,62 @@ void PetscPcgSolver::SetNearNullSpace(MatrixX const& modes) {
   for (Vec& v : vectors) VecDestroy(&v);
 }
 
-LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
-  Impl& impl = *impl_;
-  impl.DestroyObjects();
-  impl.ClearOptions();
-  impl.hasNearNullSpace = false;
-  impl.optionsChecked = false;
-  impl.setUps = 0;
+// More than one rank: the owned rows of the modes, orthonormalized by
+// Gram–Schmidt with reorthogonalization (two passes per mode; the dot
+// products and norms are PETSc's global reductions, so every rank computes
+// the same numbers and keeps the same modes). A mode whose remainder is at
+// most 1e-10 of the largest mode's norm is dependent and dropped, as the
+// one-rank QR drops a column with a small R diagonal.
+void PetscPcgSolver::Impl::SetDistributedNearNullSpace(MatrixX const& modes) {
+  int const rowBegin = distributed.GetRowBegin(), ownedRows = distributed.GetNumOwnedRows();
+  auto const numModes = static_cast<int>(modes.cols());
+  DynamicArray<Vec> candidates(static_cast<std::size_t>(numModes), nullptr), kept;
+  DynamicArray<PetscScalar> dots(static_cast<std::size_t>(numModes));
+  real largest = 0;
+  bool ok = true;
+  for (int c = 0; c < numModes && ok; ++c) {
+    PetscScalar* values = nullptr;
+    PetscReal norm = 0;
+    ok = VecDuplicate(distributed.GetSolution(), &candidates[c]) == 0 &&
+         VecGetArrayWrite(candidates[c], &values) == 0;
+    if (!ok) break;
+    for (int i = 0; i < ownedRows; ++i) values[i] = modes(rowBegin + i, c);
+    ok = VecRestoreArrayWrite(candidates[c], &values) == 0 && VecNorm(candidates[c], NORM_2, &norm) == 0;
+    largest = std::max(largest, static_cast<real>(norm));
+  }
+  for (int c = 0; c < numModes && ok; ++c) {
+    Vec v = candidates[c];
+    auto const numKept = static_cast<PetscInt>(kept.size());
+    for (int pass = 0; pass < 2 && numKept > 0 && ok; ++pass) {
+      ok = VecMDot(v, numKept, kept.data(), dots.data()) == 0;
+      for (PetscInt k = 0; k < numKept; ++k) dots[k] = -dots[k];
+      ok = ok && VecMAXPY(v, numKept, dots.data(), kept.data()) == 0;
+    }
+    PetscReal norm = 0;
+    ok = ok && VecNorm(v, NORM_2, &norm) == 0;
+    if (!ok || norm <= 1e-10 * largest) continue;
+    ok = VecScale(v, 1 / norm) == 0;
+    kept.push_back(v);
+  }
+  MatNullSpace space = nullptr;
+  if (ok && !kept.empty() &&
+      MatNullSpaceCreate(ToMpiComm(distribution.communicator), PETSC_FALSE,
+                         static_cast<PetscInt>(kept.size()), kept.data(), &space) == 0) {
+    hasNearNullSpace = MatSetNearNullSpace(matrix, space) == 0;
+    MatNullSpaceDestroy(&space);  // the matrix keeps its own reference
+  }
+  for (Vec& v : candidates) VecDestroy(&v);
+}
+
+bool PetscPcgSolver::DoSetDistribution(Communicator const& communicator, int rowBegin, int rowEnd) {
+  impl_->distribution = {communicator, rowBegin, rowEnd};
+  return true;
+}
+
+// One rank: the full-storage SeqAIJ of A, the map from A's entries to its
+// value array, and the vectors
+LinearSolveResult PetscPcgSolver::Impl::CreateSequentialMatrix(SparseSymmetricMatrix const& a) {
   int const n = a.size;
-  impl.size = n;
 
   // full CSR of the symmetric A: row r holds its lower entries (from CSC
   // column r, rows < r, in order), then the diagonal and upper entries (from
@@ -244,53 +333,114 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
     cursor[r] = rowStart[r] + lowerCount[r];
   }
   DynamicArray<PetscInt> columns(static_cast<std::size_t>(rowStart[n]));
-  impl.upperSlot.assign(a.rowIndex.size(), -1);
-  impl.lowerSlot.assign(a.rowIndex.size(), -1);
+  upperSlot.assign(a.rowIndex.size(), -1);
+  lowerSlot.assign(a.rowIndex.size(), -1);
   for (int j = 0; j < n; ++j) {
     for (int k = a.colStart[j]; k < a.colStart[j + 1]; ++k) {
       int const i = a.rowIndex[k];
       if (i < j) {
         PetscInt const mirror = rowStart[j] + (k - a.colStart[j]);
         columns[mirror] = i;
-        impl.lowerSlot[k] = mirror;
+        lowerSlot[k] = mirror;
       }
       PetscInt const slot = cursor[i]++;
       columns[slot] = j;
-      impl.upperSlot[k] = slot;
+      upperSlot[k] = slot;
     }
   }
 
   // DoF blocks: variable sizes for point-block Jacobi, their gcd as the
   // matrix block size (AMG aggregates whole nodes)
   if (a.blockSizes.empty())
-    impl.blockSizes.assign(n, 1);
+    blockSizes.assign(n, 1);
   else
-    impl.blockSizes.assign(a.blockSizes.begin(), a.blockSizes.end());
+    blockSizes.assign(a.blockSizes.begin(), a.blockSizes.end());
   int blockSize = 0;
   for (int size : a.blockSizes) blockSize = std::gcd(blockSize, size);
   if (blockSize <= 0 || n % blockSize != 0) blockSize = 1;
 
-  SUPERDEX_PETSC(MatCreate(PETSC_COMM_SELF, &impl.matrix));
-  SUPERDEX_PETSC(MatSetSizes(impl.matrix, n, n, n, n));
-  SUPERDEX_PETSC(MatSetBlockSize(impl.matrix, blockSize));
-  SUPERDEX_PETSC(MatSetType(impl.matrix, MATSEQAIJ));
-  SUPERDEX_PETSC(MatSeqAIJSetPreallocationCSR(impl.matrix, rowStart.data(), columns.data(), nullptr));
+  SUPERDEX_PETSC(MatCreate(PETSC_COMM_SELF, &matrix));
+  SUPERDEX_PETSC(MatSetSizes(matrix, n, n, n, n));
+  SUPERDEX_PETSC(MatSetBlockSize(matrix, blockSize));
+  SUPERDEX_PETSC(MatSetType(matrix, MATSEQAIJ));
+  SUPERDEX_PETSC(MatSeqAIJSetPreallocationCSR(matrix, rowStart.data(), columns.data(), nullptr));
   // symmetric, but not flagged SPD: with exact element Hessians Newton may
   // hand over an indefinite matrix, on which GAMG's CG eigenvalue estimates
   // (chosen for SPD matrices) break down inside the set-up
-  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_SYMMETRIC, PETSC_TRUE));
-  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
-  SUPERDEX_PETSC(MatSetOption(impl.matrix, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
+  SUPERDEX_PETSC(MatSetOption(matrix, MAT_SYMMETRIC, PETSC_TRUE));
+  SUPERDEX_PETSC(MatSetOption(matrix, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
+  SUPERDEX_PETSC(MatSetOption(matrix, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
   if (n > 0)
-    SUPERDEX_PETSC(MatSetVariableBlockSizes(impl.matrix, static_cast<PetscInt>(impl.blockSizes.size()),
-                                            impl.blockSizes.data()));
-  SUPERDEX_PETSC(MatCreateVecs(impl.matrix, &impl.solution, &impl.rhs));
+    SUPERDEX_PETSC(MatSetVariableBlockSizes(matrix, static_cast<PetscInt>(blockSizes.size()),
+                                            blockSizes.data()));
+  SUPERDEX_PETSC(MatCreateVecs(matrix, &solution, &rhs));
   // the solution Vec only ever wraps the caller's x: free its own storage
-  VecDestroy(&impl.solution);
-  SUPERDEX_PETSC(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, nullptr, &impl.solution));
+  VecDestroy(&solution);
+  SUPERDEX_PETSC(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, nullptr, &solution));
+  return {};
+}
+
+// More than one rank: the MPIAIJ of the owned rows (PetscDistributedMatrix),
+// referenced as `matrix`, with the owned DoF blocks for point-block Jacobi
+LinearSolveResult PetscPcgSolver::Impl::CreateDistributedMatrix(SparseSymmetricMatrix const& a) {
+  if (LinearSolveResult created = distributed.Create(a, distribution); !created.Ok()) return created;
+  matrix = distributed.GetMatrix();
+  SUPERDEX_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(matrix)));
+  Span<int const> const owned = distributed.GetOwnedBlockSizes();
+  blockSizes.assign(owned.begin(), owned.end());
+  if (!blockSizes.empty())
+    SUPERDEX_PETSC(MatSetVariableBlockSizes(matrix, static_cast<PetscInt>(blockSizes.size()),
+                                            blockSizes.data()));
+  return {};
+}
+
+// The owned rows' diagonal block of A in local numbering (rows and columns
+// minus rowBegin), upper CSC, with its DoF blocks; its values are filled
+// from A's through ownedBlockSource at each Factorize
+void PetscPcgSolver::Impl::BuildOwnedBlock(SparseSymmetricMatrix const& a) {
+  int const begin = distribution.rowBegin, end = distribution.rowEnd;
+  ownedBlock = SparseSymmetricMatrix{};
+  ownedBlock.size = end - begin;
+  ownedBlock.patternVersion = a.patternVersion;
+  ownedBlock.colStart.assign(static_cast<std::size_t>(ownedBlock.size) + 1, 0);
+  ownedBlockSource.clear();
+  for (int j = begin; j < end; ++j) {
+    for (int k = a.colStart[j]; k < a.colStart[j + 1]; ++k)
+      if (a.rowIndex[k] >= begin) {
+        ownedBlock.rowIndex.push_back(a.rowIndex[k] - begin);
+        ownedBlockSource.push_back(k);
+      }
+    ownedBlock.colStart[j - begin + 1] = static_cast<int>(ownedBlock.rowIndex.size());
+  }
+  ownedBlock.values.assign(ownedBlock.rowIndex.size(), 0);
+  Span<int const> const owned = distributed.GetOwnedBlockSizes();
+  ownedBlock.blockSizes.assign(owned.begin(), owned.end());
+}
+
+LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
+  Impl& impl = *impl_;
+  impl.DestroyObjects();
+  impl.ClearOptions();
+  impl.hasNearNullSpace = false;
+  impl.optionsChecked = false;
+  impl.setUps = 0;
+  int const n = a.size;
+  impl.size = n;
+  if (impl.IsDistributed() && params_.preconditioner == PcgPreconditioner::Icc)
+    return SolveFailure(LinearSolveStatus::InvalidInput,
+                        "PcgParams.preconditioner Icc (SuperDex's incomplete Cholesky of the whole "
+                        "matrix, sequential) cannot run across " +
+                            std::to_string(impl.distribution.GetNumRanks()) +
+                            " MPI ranks; BlockJacobi (IC(k) within each rank), Gamg or BoomerAmg can");
+  if (LinearSolveResult built =
+          impl.IsDistributed() ? impl.CreateDistributedMatrix(a) : impl.CreateSequentialMatrix(a);
+      !built.Ok())
+    return built;
 
   // KSP: CG on the unpreconditioned residual, zero initial guess
-  SUPERDEX_PETSC(KSPCreate(PETSC_COMM_SELF, &impl.ksp));
+  SUPERDEX_PETSC(KSPCreate(impl.IsDistributed() ? ToMpiComm(impl.distribution.communicator)
+                                                : PETSC_COMM_SELF,
+                           &impl.ksp));
   SUPERDEX_PETSC(KSPSetOptionsPrefix(impl.ksp, impl.prefix.c_str()));
   SUPERDEX_PETSC(KSPSetType(impl.ksp, KSPCG));
   SUPERDEX_PETSC(KSPSetOperators(impl.ksp, impl.matrix, impl.matrix));
@@ -305,25 +455,34 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
   impl.incompleteFactored = false;
   if (impl.usesIncomplete) {
     // block Jacobi: contiguous groups of whole DoF blocks with about equal
-    // DoF counts, each its own incomplete factor; ICC: one group
+    // DoF counts, each its own incomplete factor; ICC: one group. Across
+    // ranks, each rank factors the diagonal block of its own rows, in its
+    // share of max(blockJacobiBlocks, R) groups, and the shell PC applies
+    // it to the owned entries of the residual
+    if (impl.IsDistributed()) impl.BuildOwnedBlock(a);
+    SparseSymmetricMatrix const& factored = impl.IsDistributed() ? impl.ownedBlock : a;
     DynamicArray<int> groupSizes;
     if (params_.preconditioner == PcgPreconditioner::BlockJacobi) {
-      int const groups = std::max(1, std::min(params_.blockJacobiBlocks, n));
-      int start = 0, dof = 0;
-      for (int size : a.blockSizes.empty() ? DynamicArray<int>(n, 1) : a.blockSizes) {
-        dof += size;
-        long const target = static_cast<long>(n) * (static_cast<long>(groupSizes.size()) + 1) / groups;
-        if (dof >= target) {
-          groupSizes.push_back(dof - start);
-          start = dof;
-        }
+      int groups = params_.blockJacobiBlocks;
+      if (impl.IsDistributed()) {
+        int const ranks = impl.distribution.GetNumRanks();
+        int const rank = impl.distribution.communicator.GetRank();
+        long const total = std::max(params_.blockJacobiBlocks, ranks);
+        groups = static_cast<int>(total * (rank + 1) / ranks - total * rank / ranks);
       }
-      if (dof > start) groupSizes.push_back(dof - start);
+      groups = std::max(1, std::min(groups, factored.size));
+      groupSizes = BlockJacobiGroups(factored.blockSizes.empty()
+                                         ? DynamicArray<int>(factored.size, 1)
+                                         : factored.blockSizes,
+                                     factored.size, groups);
     }
     IncompleteCholesky::Result const analyzed =
-        impl.incomplete.Analyze(a, params_.iccLevels, groupSizes);
+        impl.incomplete.Analyze(factored, params_.iccLevels, groupSizes);
+    LinearSolveResult analyzedResult;
     if (!analyzed.ok)
-      return SolveFailure(LinearSolveStatus::InvalidInput, "incomplete Cholesky: " + analyzed.reason);
+      analyzedResult = SolveFailure(LinearSolveStatus::InvalidInput, "incomplete Cholesky: " + analyzed.reason);
+    if (impl.IsDistributed()) analyzedResult = AgreeOnResult(impl.distribution.communicator, analyzedResult);
+    if (!analyzedResult.Ok()) return analyzedResult;
     SUPERDEX_PETSC(PCSetType(pc, PCSHELL));
     SUPERDEX_PETSC(PCShellSetContext(pc, &impl.incomplete));
     SUPERDEX_PETSC(PCShellSetApply(pc, ApplyIncompleteCholesky));
@@ -400,15 +559,21 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
 
 LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   Impl& impl = *impl_;
-  // values in place: both triangles of the AIJ storage from A's upper CSC
-  PetscScalar* values = nullptr;
-  SUPERDEX_PETSC(MatSeqAIJGetArrayWrite(impl.matrix, &values));
-  std::size_t const numEntries = a.values.size();
-  for (std::size_t k = 0; k < numEntries; ++k) {
-    values[impl.upperSlot[k]] = a.values[k];
-    if (impl.lowerSlot[k] >= 0) values[impl.lowerSlot[k]] = a.values[k];
+  bool const distributed = impl.IsDistributed();
+  if (distributed) {
+    // the owned rows' values in place (MatSetValuesCOO through the slot map)
+    if (LinearSolveResult set = impl.distributed.SetValues(a); !set.Ok()) return set;
+  } else {
+    // values in place: both triangles of the AIJ storage from A's upper CSC
+    PetscScalar* values = nullptr;
+    SUPERDEX_PETSC(MatSeqAIJGetArrayWrite(impl.matrix, &values));
+    std::size_t const numEntries = a.values.size();
+    for (std::size_t k = 0; k < numEntries; ++k) {
+      values[impl.upperSlot[k]] = a.values[k];
+      if (impl.lowerSlot[k] >= 0) values[impl.lowerSlot[k]] = a.values[k];
+    }
+    SUPERDEX_PETSC(MatSeqAIJRestoreArrayWrite(impl.matrix, &values));
   }
-  SUPERDEX_PETSC(MatSeqAIJRestoreArrayWrite(impl.matrix, &values));
 
   // rebuild the preconditioner every preconditionerLag-th set-up (and after
   // a failed one)
@@ -417,15 +582,23 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   ++impl.setUps;
   if (impl.usesIncomplete && !reuse) {
     impl.incompleteFactored = false;
-    IncompleteCholesky::Result const factored = impl.incomplete.Factorize(a);
+    // across ranks: this rank's diagonal block, its values from A's
+    if (distributed)
+      for (std::size_t m = 0; m < impl.ownedBlockSource.size(); ++m)
+        impl.ownedBlock.values[m] = a.values[impl.ownedBlockSource[m]];
+    IncompleteCholesky::Result const factored =
+        impl.incomplete.Factorize(distributed ? impl.ownedBlock : a);
+    LinearSolveResult result;
     if (!factored.ok) {
-      LinearSolveResult result =
-          SolveFailure(LinearSolveStatus::NotPositiveDefinite,
+      result = SolveFailure(LinearSolveStatus::NotPositiveDefinite,
                   "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) + ": " +
                       factored.reason);
       result.failingColumn = factored.failingColumn;
-      return result;
+      if (distributed && factored.failingColumn >= 0) result.failingColumn += impl.distribution.rowBegin;
     }
+    // a rank's factor fails alone: every rank reports it
+    if (distributed) result = AgreeOnResult(impl.distribution.communicator, result);
+    if (!result.Ok()) return result;
     impl.incompleteFactored = true;
   }
   PC pc = nullptr;
@@ -437,17 +610,22 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   SUPERDEX_PETSC(KSPSetUp(impl.ksp));
   PCFailedReason failed = PC_NOERROR;
   SUPERDEX_PETSC(PCGetFailedReason(pc, &failed));
-  if (failed != PC_NOERROR) {
-    // a failed set-up leaves the PC unusable: start its next set-up afresh
-    PCReset(pc);
+  LinearSolveResult setUp;
+  if (failed != PC_NOERROR)
     // every PCFailedReason is a factorization breaking down inside the
     // preconditioner (an AMG coarse-grid or smoother factorization): what an indefinite matrix causes, and what Newton
     // answers by projecting the element Hessians
-    return SolveFailure(LinearSolveStatus::NotPositiveDefinite,
+    setUp = SolveFailure(LinearSolveStatus::NotPositiveDefinite,
                    "PETSc preconditioner " + std::string(ToString(params_.preconditioner)) +
                        " set-up failed: PC_" + PCFailedReasons[failed] +
                        " (a factorization inside it broke down: the matrix is not positive "
                        "definite, or too badly conditioned for it)");
+  // the failed reason is this rank's: every rank resets and reports it
+  if (distributed) setUp = AgreeOnResult(impl.distribution.communicator, setUp);
+  if (!setUp.Ok()) {
+    // a failed set-up leaves the PC unusable: start its next set-up afresh
+    PCReset(pc);
+    return setUp;
   }
 
   // every option of PcgParams::options must have been read by now
@@ -471,15 +649,30 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
 
 LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
   Impl& impl = *impl_;
-  PetscScalar* rhs = nullptr;
-  SUPERDEX_PETSC(VecGetArrayWrite(impl.rhs, &rhs));
-  std::copy(b.begin(), b.end(), rhs);  // memcpy with null pointers (n = 0) is undefined
-  SUPERDEX_PETSC(VecRestoreArrayWrite(impl.rhs, &rhs));
-  SUPERDEX_PETSC(VecPlaceArray(impl.solution, x.data()));
-  PetscErrorCode const code = KSPSolve(impl.ksp, impl.rhs, impl.solution);
-  VecResetArray(impl.solution);
-  if (code != 0)
-    return SolveFailure(LinearSolveStatus::BackendError, "PETSc KSPSolve failed: " + PetscErrorText(code));
+  Vec rhsVector = impl.rhs;
+  if (impl.IsDistributed()) {
+    // the owned entries of b, and of x (Resume's initial guess; KSPSolve
+    // zeroes it otherwise); every rank gets all of x, also a truncated one
+    rhsVector = impl.distributed.GetRhs();
+    if (LinearSolveResult set = impl.distributed.SetRhs(b); !set.Ok()) return set;
+    if (LinearSolveResult set = impl.distributed.SetSolution(x); !set.Ok()) return set;
+    if (LinearSolveResult solved = AgreeOnPetscCall(
+            impl.distribution.communicator,
+            KSPSolve(impl.ksp, rhsVector, impl.distributed.GetSolution()), "KSPSolve");
+        !solved.Ok())
+      return solved;
+    if (LinearSolveResult gathered = impl.distributed.GatherSolution(x); !gathered.Ok()) return gathered;
+  } else {
+    PetscScalar* rhs = nullptr;
+    SUPERDEX_PETSC(VecGetArrayWrite(impl.rhs, &rhs));
+    std::copy(b.begin(), b.end(), rhs);  // memcpy with null pointers (n = 0) is undefined
+    SUPERDEX_PETSC(VecRestoreArrayWrite(impl.rhs, &rhs));
+    SUPERDEX_PETSC(VecPlaceArray(impl.solution, x.data()));
+    PetscErrorCode const code = KSPSolve(impl.ksp, impl.rhs, impl.solution);
+    VecResetArray(impl.solution);
+    if (code != 0)
+      return SolveFailure(LinearSolveStatus::BackendError, "PETSc KSPSolve failed: " + PetscErrorText(code));
+  }
 
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
   PetscInt iterations = 0;
@@ -487,7 +680,7 @@ LinearSolveResult PetscPcgSolver::DoSolve(Span<real const> b, Span<real> x) {
   SUPERDEX_PETSC(KSPGetConvergedReason(impl.ksp, &reason));
   SUPERDEX_PETSC(KSPGetIterationNumber(impl.ksp, &iterations));
   SUPERDEX_PETSC(KSPGetResidualNorm(impl.ksp, &residual));
-  SUPERDEX_PETSC(VecNorm(impl.rhs, NORM_2, &rhsNorm));
+  SUPERDEX_PETSC(VecNorm(rhsVector, NORM_2, &rhsNorm));
 
   LinearSolveResult result;
   result.iterations = static_cast<int>(iterations);

@@ -29,6 +29,21 @@
 // an option PETSc did not use by the first set-up is reported as
 // kInvalidInput.
 //
+// Across R > 1 ranks (SetDistribution; docs/linear_solvers.md "Across MPI
+// ranks"): the matrix is the MPIAIJ of the owned rows (PetscDistributedMatrix:
+// preallocated by owned coordinates once per pattern, values set in place by
+// MatSetValuesCOO at each Factorize), KSPCG runs on the communicator with
+// the same tolerances, norm and options; Solve takes b's owned entries (and
+// Resume x's, as the initial guess) and gathers all of x onto every rank.
+// Jacobi, point-block Jacobi (the owned DoF blocks), GAMG (the near-null
+// space's owned rows, orthonormalized with global dot products) and
+// BoomerAMG run as PETSc runs them in parallel; block Jacobi is the same IC(k)
+// shell applied by each rank to its own rows (the diagonal block of the
+// owned rows, in that rank's share of max(blockJacobiBlocks, R) groups);
+// Icc, IC of the whole matrix, is refused (kInvalidInput). A failure known
+// to one rank (IC factor, preconditioner set-up, a PETSc error in the solve)
+// is reported by every rank. GetDescription ends in "on R ranks".
+//
 // Allocation: Analyze allocates the PETSc objects; the preconditioner set-up
 // allocates inside PETSc (AMG hierarchies), as CHOLMOD's
 // factorization does; SuperDex's own code allocates nothing per iteration.
@@ -75,6 +90,8 @@ class PetscPcgSolver final : public LinearSolver {
   LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) override;
   LinearSolveResult DoSolve(Span<real const> b, Span<real> x) override;
   LinearSolveResult DoResume(Span<real const> b, Span<real> x) override;
+  /// Stores the ranks and rows for the next Analyze; always accepted.
+  bool DoSetDistribution(Communicator const& communicator, int rowBegin, int rowEnd) override;
 
  private:
   struct Impl;  // the PETSc objects (petsc_pcg_solver.cc)
