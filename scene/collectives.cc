@@ -1,7 +1,5 @@
 #include <superdex/scene/collectives.h>
 
-#include <climits>
-
 #include <superdex/core/mpi.h>
 
 namespace superdex::internal {
@@ -17,22 +15,10 @@ void AllgatherRows(Communicator const& communicator, DynamicArray<int> const& pa
                  MPI_DOUBLE, ToMpiComm(communicator));
 }
 
-void AgreeOnResult(Communicator const& communicator, LinearSolveResult& result) {
-  MPI_Comm const comm = ToMpiComm(communicator);
-  int failingRank = result.Ok() ? INT_MAX : communicator.GetRank();
-  MPI_Allreduce(MPI_IN_PLACE, &failingRank, 1, MPI_INT, MPI_MIN, comm);
-  if (failingRank == INT_MAX) return;
-  // status, column, iterations, truncated, reason length; the residual
-  int fields[5] = {static_cast<int>(result.status), result.failingColumn, result.iterations,
-                   result.truncated ? 1 : 0, static_cast<int>(result.reason.size())};
-  MPI_Bcast(fields, 5, MPI_INT, failingRank, comm);
-  MPI_Bcast(&result.relativeResidual, 1, MPI_DOUBLE, failingRank, comm);
-  result.status = static_cast<LinearSolveStatus>(fields[0]);
-  result.failingColumn = fields[1];
-  result.iterations = fields[2];
-  result.truncated = fields[3] != 0;
-  result.reason.resize(fields[4]);
-  MPI_Bcast(result.reason.data(), fields[4], MPI_CHAR, failingRank, comm);
+bool OnAllRanks(Communicator const& communicator, bool value) {
+  int all = value ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &all, 1, MPI_INT, MPI_LAND, ToMpiComm(communicator));
+  return all != 0;
 }
 
 real SumInRankOrder(Communicator const& communicator, real value, DynamicArray<real>& scratch) {

@@ -1,12 +1,12 @@
 // Internal: the few collective operations the stage solver needs across MPI
 // ranks (docs/distributed.md, "Stage 1"). Every rank holds the whole scene;
 // these keep what each rank computes for its own part, and every decision
-// taken from it, the same on all ranks.
+// taken from it, the same on all ranks. (A linear solver's result is made
+// the same on every rank by AgreeOnResult, petsc_distributed_matrix.h.)
 #pragma once
 
 #include <superdex/core/communicator.h>
 #include <superdex/core/types.h>
-#include <superdex/linsolve/linear_solver.h>
 
 namespace superdex::internal {
 
@@ -17,10 +17,8 @@ namespace superdex::internal {
 void AllgatherRows(Communicator const& communicator, DynamicArray<int> const& partRowStart,
                    DynamicArray<int>& counts, DynamicArray<int>& displacements, Span<real> ordered);
 
-/// Makes `result` the same on every rank: when any rank's is not Ok, every
-/// rank gets the lowest such rank's (status, column, iterations, residual,
-/// truncation and reason). Collective; allocates only when a rank failed.
-void AgreeOnResult(Communicator const& communicator, LinearSolveResult& result);
+/// True on every rank when `value` is true on every rank (MPI_LAND).
+bool OnAllRanks(Communicator const& communicator, bool value);
 
 /// The sum of every rank's `value`, added in rank order, so that every rank
 /// gets the same bits (MPI_Allgather, then a sum). `scratch` holds one entry

@@ -7,6 +7,7 @@
 #include <superdex/actors/actor.h>
 #include <superdex/core/validate.h>
 #include <superdex/linsolve/cholmod_solver.h>
+#include <superdex/linsolve/petsc_distributed_matrix.h>
 #include <superdex/scene/collectives.h>
 
 namespace superdex::internal {
@@ -124,8 +125,19 @@ void StageSolver::GatherGradient() {
 
 LinearSolveResult StageSolver::FactorizeMatrix(SceneStats& stats) {
   auto const start = Clock::now();
-  LinearSolveResult result = solver_->Factorize(assembler_.GetMatrix());
-  if (IsDistributed()) AgreeOnResult(communicator_, result);
+  LinearSolveResult result;
+  SparseSymmetricMatrix const& matrix = assembler_.GetMatrix();
+  // across ranks a non-finite entry is refused by every rank at once: a rank
+  // alone refusing it (the solver's own check) would leave the others
+  // waiting in the backend's collective calls
+  if (IsDistributed() &&
+      !OnAllRanks(communicator_, std::all_of(matrix.values.begin(), matrix.values.end(),
+                                             [](real v) { return std::isfinite(v); }))) {
+    result.status = LinearSolveStatus::InvalidInput;
+    result.reason = "the assembled Hessian holds a non-finite entry";
+  } else {
+    result = solver_->Factorize(matrix);  // collective in the backend
+  }
   stats.factorizationSeconds += SecondsSince(start);
   ++stats.factorizations;
   return result;
@@ -199,7 +211,6 @@ bool StageSolver::EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneSta
     }
     std::int64_t const builds = solver_->GetNumObjectBuilds();
     LinearSolveResult result = solver_->Analyze(matrix);
-    if (IsDistributed()) AgreeOnResult(communicator_, result);
     stats.linearSolverObjectBuilds += solver_->GetNumObjectBuilds() - builds;
     if (result.Ok() && solver_->WantsNearNullSpace()) {
       // rigid-body modes at the current configuration, in the solver's order
@@ -231,7 +242,6 @@ LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats, bool resume)
   Span<real const> const rhs(orderedRhs_.data(), orderedRhs_.size());
   Span<real> const solution(orderedSolution_.data(), orderedSolution_.size());
   LinearSolveResult result = resume ? solver_->Resume(rhs, solution) : solver_->Solve(rhs, solution);
-  if (IsDistributed()) AgreeOnResult(communicator_, result);
   assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), orderedSolution_.size()),
                               Span<real>(delta_.data(), delta_.size()));
   stats.solveSeconds += SecondsSince(start);
@@ -513,7 +523,8 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       result.status = LinearSolveStatus::BackendError;
       result.reason = "failure injected by a test";
     }
-    if (IsDistributed()) AgreeOnResult(communicator_, result);
+    // (a backend's results agree across ranks; a test's fault may not)
+    if (IsDistributed()) result = AgreeOnResult(communicator_, std::move(result));
     auto const linearSolverFailed = [&](LinearSolveResult const& failed) {
       std::string detail = failed.reason;
       if (failed.status == LinearSolveStatus::NotPositiveDefinite && failed.failingColumn >= 0)

@@ -1,0 +1,206 @@
+// Scenes on 2 MPI ranks against the same scenes in one process
+// (docs/distributed.md), started by ctest through mpiexec
+// (tests/mpi/CMakeLists.txt). The scenes are the perf harness's families, as
+// `superdex_perf run --family F` builds them. Every rank also steps the
+// one-process scene itself (the default communicator), so each rank compares
+// its distributed result with its own reference.
+#define CATCH_CONFIG_RUNNER
+#include <catch2/catch.hpp>
+
+#include <functional>
+#include <string>
+
+#include <mpi.h>
+
+#include <superdex/core/mpi.h>
+#include <superdex/scene/stage_solver.h>
+
+#include "harness/families.h"
+
+using namespace superdex;
+
+namespace {
+
+constexpr real kDt = 1.0 / 60;
+
+int Rank() {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+/// True on every rank when `value` is the same on all of them.
+bool SameOnAllRanks(unsigned long long value) {
+  unsigned long long low = value, high = value;
+  MPI_Allreduce(MPI_IN_PLACE, &low, 1, MPI_UNSIGNED_LONG_LONG, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &high, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
+  return low == high;
+}
+
+/// FNV-1a of the positions' bits
+unsigned long long Hash(DynamicArray<Real3> const& positions) {
+  unsigned long long hash = 1469598103934665603ull;
+  for (Real3 const& x : positions)
+    for (int c = 0; c < 3; ++c) {
+      unsigned long long bits;
+      std::memcpy(&bits, &x[c], sizeof bits);
+      hash = (hash ^ bits) * 1099511628211ull;
+    }
+  return hash;
+}
+
+struct Solver {
+  LinearSolverType type;
+  PcgPreconditioner preconditioner = PcgPreconditioner::Gamg;
+};
+
+SceneParams Params(Communicator const& communicator, Solver const& solver) {
+  SceneParams params;
+  params.communicator = communicator;
+  params.linearSolver = solver.type;
+  params.pcg.preconditioner = solver.preconditioner;
+  params.pcg.relativeTolerance = 1e-12;
+  // Newton to well below the compared 1e-8: a step as a velocity of 1e-9 m/s
+  // moves the nodes by < 2e-11 m
+  params.newton.velocityTolerance = 1e-9;
+  params.numThreads = 1;
+  return params;
+}
+
+perf::FamilyScene Build(std::string const& family, std::string const& size, SceneParams const& params) {
+  perf::FamilyScene out;
+  Error error;
+  bool const built = perf::BuildFamilyScene(family, size, 1, params, out, error);
+  INFO(error.ToString());
+  REQUIRE(built);
+  return out;
+}
+
+void Steps(Scene& scene, int steps) {
+  for (int s = 0; s < steps; ++s) {
+    Error error;
+    bool const ok = scene.Step(kDt, error);
+    INFO("step " << s << ": " << error.ToString());
+    REQUIRE(ok);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("a scene on 2 ranks agrees with the same scene in one process", "[mpi][agreement]") {
+  Error error;
+  Communicator const world = Communicator::World(error);
+  REQUIRE(world.GetSize() == 2);
+  auto const [family, size] = GENERATE(std::pair<std::string, std::string>{"cantilever", "12x3x3"},
+                                       std::pair<std::string, std::string>{"rods", "6x24"});
+  auto const solver = GENERATE(Solver{LinearSolverType::PetscMumps},
+                               Solver{LinearSolverType::PetscPcg, PcgPreconditioner::Gamg},
+                               Solver{LinearSolverType::PetscPcg, PcgPreconditioner::BlockJacobi});
+  CAPTURE(family, size, ToString(solver.type), ToString(solver.preconditioner));
+
+  perf::FamilyScene reference = Build(family, size, Params(Communicator(), solver));
+  perf::FamilyScene distributed = Build(family, size, Params(world, solver));
+  Steps(*reference.scene, 20);
+  Steps(*distributed.scene, 20);
+
+  // the work was divided: each rank owns part of the rows, and the solver
+  // ran across both ranks
+  SceneStats const& stats = distributed.scene->GetStats();
+  CAPTURE(stats.linearSolver, stats.ownedDofs, stats.numDofs);
+  REQUIRE(stats.ranks == 2);
+  REQUIRE(stats.ownedDofs > 0);
+  REQUIRE(stats.ownedDofs < stats.numDofs);
+  int owned = stats.ownedDofs;
+  MPI_Allreduce(MPI_IN_PLACE, &owned, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  REQUIRE(owned == stats.numDofs);
+  REQUIRE(stats.linearSolver.find("2 ranks") != std::string::npos);
+
+  // every position within 1e-8 of the scene length L (the positions are of
+  // order L), after 20 steps in which the scene moved by far more
+  DynamicArray<Real3> const expected = reference.trackedPositions();
+  DynamicArray<Real3> const actual = distributed.trackedPositions();
+  REQUIRE(expected.size() == actual.size());
+  real worst = 0, moved = 0;
+  perf::FamilyScene start = Build(family, size, Params(Communicator(), solver));
+  DynamicArray<Real3> const initial = start.trackedPositions();
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    worst = std::max(worst, (actual[i] - expected[i]).norm());
+    moved = std::max(moved, (expected[i] - initial[i]).norm());
+  }
+  CAPTURE(worst, moved, reference.length);
+  REQUIRE(moved > 1e-4 * reference.length);
+  REQUIRE(worst <= 1e-8 * reference.length);
+  // and the ranks hold the same state, bit for bit
+  REQUIRE(SameOnAllRanks(Hash(actual)));
+}
+
+TEST_CASE("a Newton failure on one rank fails the step on both and changes nothing",
+          "[mpi][failure]") {
+  Error error;
+  Communicator const world = Communicator::World(error);
+  REQUIRE(world.GetSize() == 2);
+  auto const solver = GENERATE(Solver{LinearSolverType::PetscMumps},
+                               Solver{LinearSolverType::PetscPcg, PcgPreconditioner::Gamg});
+  CAPTURE(ToString(solver.type));
+  perf::FamilyScene scene = Build("cantilever", "12x3x3", Params(world, solver));
+  Steps(*scene.scene, 3);
+  DynamicArray<Real3> const before = scene.trackedPositions();
+  real const time = scene.scene->GetTime();
+
+  // rank 1 alone fails its first linear solve
+  if (Rank() == 1) internal::SetFaultInjectionForTesting(*scene.scene, {.failLinearSolveAtIteration = 1});
+  Error stepError;
+  bool const ok = scene.scene->Step(kDt, stepError);
+  CAPTURE(stepError.ToString());
+  REQUIRE_FALSE(ok);
+  REQUIRE(stepError.GetCode() == ErrorCode::LinearSolverFailed);
+  REQUIRE(stepError.GetMessage().find("failure injected by a test") != std::string::npos);
+  REQUIRE(SameOnAllRanks(std::hash<std::string>{}(stepError.GetMessage())));
+  REQUIRE(Hash(scene.trackedPositions()) == Hash(before));
+  REQUIRE(scene.scene->GetTime() == time);
+
+  // without the fault both ranks step on, from the unchanged state
+  internal::SetFaultInjectionForTesting(*scene.scene, {});
+  Steps(*scene.scene, 1);
+  REQUIRE(Hash(scene.trackedPositions()) != Hash(before));
+  REQUIRE(SameOnAllRanks(Hash(scene.trackedPositions())));
+}
+
+TEST_CASE("solvers of one process are refused across ranks, naming the field", "[mpi][refusal]") {
+  Error error;
+  Communicator const world = Communicator::World(error);
+  REQUIRE(world.GetSize() == 2);
+  for (LinearSolverType type : {LinearSolverType::Cholmod, LinearSolverType::Dense}) {
+    SceneParams params;
+    params.communicator = world;
+    params.linearSolver = type;
+    Error refused;
+    REQUIRE_FALSE(Scene::Create(params, refused));
+    CAPTURE(refused.ToString());
+    REQUIRE(refused.GetCode() == ErrorCode::InvalidArgument);
+    REQUIRE(refused.GetMessage().find(std::string(ToString(type))) != std::string::npos);
+    REQUIRE(refused.GetMessage().find("2 ranks") != std::string::npos);
+  }
+  SceneParams params;
+  params.communicator = world;
+  params.linearSolver = LinearSolverType::PetscPcg;
+  params.pcg.preconditioner = PcgPreconditioner::Icc;
+  Error refused;
+  REQUIRE_FALSE(Scene::Create(params, refused));
+  CAPTURE(refused.ToString());
+  REQUIRE(refused.GetMessage().find("preconditioner Icc") != std::string::npos);
+
+  // a scene refuses the change too, and keeps its solver
+  params.pcg.preconditioner = PcgPreconditioner::Gamg;
+  auto scene = Scene::Create(params, error);
+  REQUIRE(scene);
+  REQUIRE_FALSE(scene->SetLinearSolver(LinearSolverType::Cholmod, PcgParams{}, refused));
+  REQUIRE(scene->GetParams().linearSolver == LinearSolverType::PetscPcg);
+}
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int const failed = Catch::Session().run(argc, argv);
+  MPI_Finalize();
+  return failed == 0 ? 0 : 1;
+}
