@@ -1,5 +1,6 @@
 #include <superdex/linsolve/reused_factor_cg.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace superdex::internal {
@@ -32,11 +33,48 @@ void MultiplySymmetric(SparseSymmetricMatrix const& a, Span<real const> x, Span<
   }
 }
 
+void MultiplySymmetricRows(SparseSymmetricMatrix const& a, int rowBegin, int rowEnd, Span<real const> x,
+                           Span<real> y) {
+  int const n = a.size;
+  int const* colStart = a.colStart.data();
+  int const* rowIndex = a.rowIndex.data();
+  real const* values = a.values.data();
+  for (int i = rowBegin; i < rowEnd; ++i) y[i] = 0;
+  // columns left of the range hold rows i < j < rowBegin only: nothing to do
+  for (int j = rowBegin; j < n; ++j) {
+    int const first = colStart[j], end = colStart[j + 1];
+    real const xj = x[j];
+    if (j < rowEnd) {
+      // an owned column: all of it for row j (the row of A is the column of
+      // the symmetric A), and its rows inside the range
+      real yj = 0;
+      for (int k = first; k < end; ++k) {
+        int const i = rowIndex[k];
+        yj += values[k] * x[i];
+        if (i != j && i >= rowBegin) y[i] += values[k] * xj;
+      }
+      y[j] += yj;
+    } else {
+      // right of the range: only its rows inside it (rows sorted in a column)
+      int const* inside = std::lower_bound(rowIndex + first, rowIndex + end, rowBegin);
+      for (int k = static_cast<int>(inside - rowIndex); k < end && rowIndex[k] < rowEnd; ++k)
+        y[rowIndex[k]] += values[k] * xj;
+    }
+  }
+}
+
+void ReusedFactorCg::Multiply(SparseSymmetricMatrix const& a, Span<real const> x, Span<real> y) const {
+  if (product_ != nullptr)
+    product_->Multiply(a, x, y);
+  else
+    MultiplySymmetric(a, x, y);
+}
+
 void ReusedFactorCg::Reserve(int size) {
   residual_.setZero(size);
   preconditioned_.setZero(size);
   direction_.setZero(size);
-  product_.setZero(size);
+  productVector_.setZero(size);
   previousPreconditioned_.setZero(size);
 }
 
@@ -59,10 +97,10 @@ ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, Lin
   Span<real const> const residual(residual_.data(), n);
   Span<real> const preconditioned(preconditioned_.data(), n);
   Span<real const> const direction(direction_.data(), n);
-  Span<real> const product(product_.data(), n);
+  Span<real> const product(productVector_.data(), n);
   if (resume) {
-    MultiplySymmetric(a, Span<real const>(x.data(), n), product);
-    residual_ = rhs - product_;
+    Multiply(a, Span<real const>(x.data(), n), product);
+    residual_ = rhs - productVector_;
     result.relativeResidual = residual_.norm() / rhsNorm;
     if (result.relativeResidual <= relativeTolerance) {
       result.status = Status::Converged;
@@ -100,8 +138,8 @@ ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, Lin
   direction_ = preconditioned_;
   real rz = residual_.dot(preconditioned_);
   for (;;) {
-    MultiplySymmetric(a, direction, product);
-    real const curvature = direction_.dot(product_);
+    Multiply(a, direction, product);
+    real const curvature = direction_.dot(productVector_);
     if (!(curvature > 0) || !(rz > 0)) {
       result.status = Status::NonPositiveCurvature;
       result.relativeResidual = residual_.norm() / rhsNorm;
@@ -109,7 +147,7 @@ ReusedFactorCg::Result ReusedFactorCg::Solve(SparseSymmetricMatrix const& a, Lin
     }
     real const alpha = rz / curvature;
     solution += alpha * direction_;
-    residual_ -= alpha * product_;
+    residual_ -= alpha * productVector_;
     result.relativeResidual = residual_.norm() / rhsNorm;
     if (result.relativeResidual <= relativeTolerance) {
       result.status = Status::Converged;

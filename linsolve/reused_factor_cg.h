@@ -36,6 +36,25 @@ namespace superdex::internal {
 /// last in each column). x and y must not overlap.
 void MultiplySymmetric(SparseSymmetricMatrix const& a, Span<real const> x, Span<real> y);
 
+/// Rows [rowBegin, rowEnd) of y = A x; y's other rows are left as they are.
+/// Reads only the entries of A with a row or a column in the range: across
+/// MPI ranks the assembler completes exactly those on the rank that owns the
+/// rows (HessianAssembler::Analyze), so each rank forms its own rows of the
+/// product. x and y must not overlap.
+void MultiplySymmetricRows(SparseSymmetricMatrix const& a, int rowBegin, int rowEnd, Span<real const> x,
+                           Span<real> y);
+
+/// How ReusedFactorCg forms y = A x. Without one it multiplies the whole
+/// stored triangle (MultiplySymmetric); the stage solver across MPI ranks
+/// gives one that multiplies the rank's own rows and gathers the rest
+/// (docs/distributed.md, "Reused factorizations across ranks"). Every rank
+/// must get the same y, bit for bit: CG's decisions are then the same on all.
+class MatrixProduct {
+ public:
+  virtual ~MatrixProduct() = default;
+  virtual void Multiply(SparseSymmetricMatrix const& a, Span<real const> x, Span<real> y) = 0;
+};
+
 class ReusedFactorCg {
  public:
   enum class Status { Converged, NotConverged, NonPositiveCurvature, PreconditionerFailed };
@@ -56,6 +75,10 @@ class ReusedFactorCg {
 
   void Reserve(int size);
 
+  /// The product CG runs on; null (the default) for MultiplySymmetric. Not
+  /// owned: it must outlive the Solve calls.
+  void SetProduct(MatrixProduct* product) { product_ = product; }
+
   /// Solves A x = b, preconditioned by `factor`'s current factorization
   /// (factor.Solve), from x = 0, or with `resume` from the x passed in (a
   /// looser solve continued to a tighter tolerance; the residual is
@@ -73,7 +96,10 @@ class ReusedFactorCg {
                StepTolerance const* stepTolerance = nullptr, bool reducedPrecision = false);
 
  private:
-  VectorX residual_, preconditioned_, direction_, product_;
+  void Multiply(SparseSymmetricMatrix const& a, Span<real const> x, Span<real> y) const;
+
+  MatrixProduct* product_ = nullptr;
+  VectorX residual_, preconditioned_, direction_, productVector_;
   VectorX previousPreconditioned_;  ///< reducedPrecision: z of the last iteration
 };
 

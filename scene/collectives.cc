@@ -28,4 +28,17 @@ real SumInRankOrder(Communicator const& communicator, real value, DynamicArray<r
   return sum;
 }
 
+void OwnedRowsProduct::Set(Communicator const& communicator, DynamicArray<int> const* partRowStart) {
+  communicator_ = communicator;
+  partRowStart_ = partRowStart;
+  counts_.assign(static_cast<std::size_t>(communicator.GetSize()), 0);
+  displacements_.assign(counts_.size(), 0);
+}
+
+void OwnedRowsProduct::Multiply(SparseSymmetricMatrix const& a, Span<real const> x, Span<real> y) {
+  int const rank = communicator_.GetRank();
+  MultiplySymmetricRows(a, (*partRowStart_)[rank], (*partRowStart_)[rank + 1], x, y);
+  AllgatherRows(communicator_, *partRowStart_, counts_, displacements_, y);
+}
+
 }  // namespace superdex::internal

@@ -7,6 +7,7 @@
 
 #include <superdex/core/communicator.h>
 #include <superdex/core/types.h>
+#include <superdex/linsolve/reused_factor_cg.h>
 
 namespace superdex::internal {
 
@@ -24,5 +25,22 @@ bool OnAllRanks(Communicator const& communicator, bool value);
 /// gets the same bits (MPI_Allgather, then a sum). `scratch` holds one entry
 /// per rank, sized by the caller.
 real SumInRankOrder(Communicator const& communicator, real value, DynamicArray<real>& scratch);
+
+/// ReusedFactorCg's product across ranks: each rank multiplies its own rows
+/// [partRowStart[rank], partRowStart[rank+1]) of the partition-major order
+/// (MultiplySymmetricRows reads only the entries the rank has complete),
+/// then AllgatherRows gives every rank all of y, the same bits everywhere.
+class OwnedRowsProduct final : public MatrixProduct {
+ public:
+  /// `partRowStart` (one entry per rank and one more) must outlive the
+  /// product; it is read at every Multiply, so a new partition needs no call.
+  void Set(Communicator const& communicator, DynamicArray<int> const* partRowStart);
+  void Multiply(SparseSymmetricMatrix const& a, Span<real const> x, Span<real> y) override;
+
+ private:
+  Communicator communicator_;
+  DynamicArray<int> const* partRowStart_ = nullptr;
+  DynamicArray<int> counts_, displacements_;  ///< MPI_Allgatherv scratch
+};
 
 }  // namespace superdex::internal

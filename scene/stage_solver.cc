@@ -268,8 +268,7 @@ int StageSolver::ReuseIterationCap() const {
 
 bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, real tolerance, bool resume,
                                         SceneStats& stats) {
-  // (across ranks the reused-factor CG would need a distributed product: off)
-  if (!newton.reuseFactorization || IsDistributed() || solver_->IsIterative() || !solver_->IsFactorized() ||
+  if (!newton.reuseFactorization || solver_->IsIterative() || !solver_->IsFactorized() ||
       reuseFailuresInRow_ >= kMaxReuseFailures)
     return false;
   int const cap = ReuseIterationCap();
@@ -277,6 +276,10 @@ bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, real toleran
   auto const start = Clock::now();
   int const n = static_cast<int>(gradient_.size());
   OrderNewtonRhs();
+  // across ranks each rank multiplies its own rows and gathers the rest; the
+  // factor's solves are the backend's own, across the ranks (MUMPS)
+  if (IsDistributed()) ownedRowsProduct_.Set(communicator_, &assembler_.GetPartRowStart());
+  reuseCg_.SetProduct(IsDistributed() ? &ownedRowsProduct_ : nullptr);
   ReusedFactorCg::Result const result =
       reuseCg_.Solve(assembler_.GetMatrix(), *solver_, Span<real const>(orderedRhs_.data(), n),
                      Span<real>(orderedSolution_.data(), n), tolerance, cap, resume,

@@ -17,6 +17,7 @@
 #include <superdex/core/error.h>
 #include <superdex/linsolve/linear_solver.h>
 #include <superdex/linsolve/reused_factor_cg.h>
+#include <superdex/scene/collectives.h>
 #include <superdex/scene/scene_params.h>
 
 namespace superdex {
@@ -132,6 +133,7 @@ class StageSolver {
   Communicator communicator_;
   int numRanks_ = 1, rank_ = 0;
   VectorX orderedGradient_;                  ///< gradient_ in the partition-major order
+  OwnedRowsProduct ownedRowsProduct_;        ///< reuseCg_'s product
   DynamicArray<int> rankCounts_, rankDisplacements_;  ///< MPI_Allgatherv scratch
 };
 

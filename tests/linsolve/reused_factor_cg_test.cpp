@@ -4,6 +4,8 @@
 #include "test_support.h"
 #include "test_systems.h"
 
+#include <limits>
+
 #include <superdex/linsolve/cholmod_solver.h>
 #include <superdex/linsolve/dense_solver.h>
 #include <superdex/linsolve/reused_factor_cg.h>
@@ -32,6 +34,39 @@ TEST_CASE("MultiplySymmetric equals the product with the full matrix", "[linsolv
   VectorX const expected = test::Multiply(a, x);
   REQUIRE(expected.norm() > 0);
   CHECK((y - expected).norm() <= 1e-14 * expected.norm());
+}
+
+TEST_CASE("MultiplySymmetricRows forms a range of rows of the product, from the entries it may read",
+          "[linsolve][reuse]") {
+  SparseSymmetricMatrix const a = test::RandomBlockSpd(12, 3, 0.3, 7);
+  int const n = a.size;
+  VectorX const x = test::TestRhs(n, 4);
+  VectorX const expected = test::Multiply(a, x);
+  // the ranges of 1, 2 and 3 ranks, and an empty one
+  auto const [rowBegin, rowEnd] = GENERATE_COPY(std::pair{0, n}, std::pair{0, n / 2}, std::pair{n / 2, n},
+                                                std::pair{n / 3, 2 * n / 3}, std::pair{n / 3, n / 3});
+  CAPTURE(rowBegin, rowEnd);
+  // the entries with neither row nor column in the range are not read (a
+  // rank holds them incomplete): poison them
+  SparseSymmetricMatrix poisoned = a;
+  int poisonedEntries = 0;
+  auto const inRange = [&](int i) { return i >= rowBegin && i < rowEnd; };
+  for (int j = 0; j < n; ++j)
+    for (int k = a.colStart[j]; k < a.colStart[j + 1]; ++k)
+      if (!inRange(j) && !inRange(a.rowIndex[k])) {
+        poisoned.values[k] = std::numeric_limits<real>::quiet_NaN();
+        ++poisonedEntries;
+      }
+  if (rowEnd - rowBegin < n) REQUIRE(poisonedEntries > 0);
+  VectorX y = VectorX::Constant(n, -7.0);
+  internal::MultiplySymmetricRows(poisoned, rowBegin, rowEnd, View(x), View(y));
+  for (int i = 0; i < n; ++i) {
+    CAPTURE(i);
+    if (inRange(i))
+      CHECK(std::abs(y[i] - expected[i]) <= 1e-14 * expected.norm());
+    else
+      CHECK(y[i] == -7.0);  // rows outside the range untouched
+  }
 }
 
 TEST_CASE("CG with a reused factorization converges on a nearby matrix, to the requested residual",

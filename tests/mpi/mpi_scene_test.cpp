@@ -76,32 +76,31 @@ perf::FamilyScene Build(std::string const& family, std::string const& size, Scen
   return out;
 }
 
-void Steps(Scene& scene, int steps) {
+/// Takes the steps; returns the Newton systems solved by CG on a reused
+/// factorization, over all of them.
+int Steps(Scene& scene, int steps) {
+  int reusedFactorSolves = 0;
   for (int s = 0; s < steps; ++s) {
     Error error;
     bool const ok = scene.Step(kDt, error);
     INFO("step " << s << ": " << error.ToString());
     REQUIRE(ok);
+    reusedFactorSolves += scene.GetStats().reusedFactorSolves;
   }
+  return reusedFactorSolves;
 }
 
-}  // namespace
-
-TEST_CASE("a scene on 2 ranks agrees with the same scene in one process", "[mpi][agreement]") {
+/// Steps `family` at `size` 20 times in one process and on the 2 ranks of
+/// MPI_COMM_WORLD with `solver`, and checks that the positions agree;
+/// returns the reused-factor solves {in one process, on 2 ranks}.
+std::pair<int, int> CheckAgreement(std::string const& family, std::string const& size, Solver const& solver) {
   Error error;
   Communicator const world = Communicator::World(error);
   REQUIRE(world.GetSize() == 2);
-  auto const [family, size] = GENERATE(std::pair<std::string, std::string>{"cantilever", "12x3x3"},
-                                       std::pair<std::string, std::string>{"rods", "6x24"});
-  auto const solver = GENERATE(Solver{LinearSolverType::PetscMumps},
-                               Solver{LinearSolverType::PetscPcg, PcgPreconditioner::Gamg},
-                               Solver{LinearSolverType::PetscPcg, PcgPreconditioner::BlockJacobi});
-  CAPTURE(family, size, ToString(solver.type), ToString(solver.preconditioner));
-
   perf::FamilyScene reference = Build(family, size, Params(Communicator(), solver));
   perf::FamilyScene distributed = Build(family, size, Params(world, solver));
-  Steps(*reference.scene, 20);
-  Steps(*distributed.scene, 20);
+  int const referenceReuse = Steps(*reference.scene, 20);
+  int const distributedReuse = Steps(*distributed.scene, 20);
 
   // the work was divided: each rank owns part of the rows, and the solver
   // ran across both ranks
@@ -132,6 +131,30 @@ TEST_CASE("a scene on 2 ranks agrees with the same scene in one process", "[mpi]
   REQUIRE(worst <= 1e-8 * reference.length);
   // and the ranks hold the same state, bit for bit
   REQUIRE(SameOnAllRanks(Hash(actual)));
+  return {referenceReuse, distributedReuse};
+}
+
+}  // namespace
+
+TEST_CASE("a scene on 2 ranks agrees with the same scene in one process", "[mpi][agreement]") {
+  auto const [family, size] = GENERATE(std::pair<std::string, std::string>{"cantilever", "12x3x3"},
+                                       std::pair<std::string, std::string>{"rods", "6x24"});
+  auto const solver = GENERATE(Solver{LinearSolverType::PetscMumps},
+                               Solver{LinearSolverType::PetscPcg, PcgPreconditioner::Gamg},
+                               Solver{LinearSolverType::PetscPcg, PcgPreconditioner::BlockJacobi});
+  CAPTURE(family, size, ToString(solver.type), ToString(solver.preconditioner));
+  CheckAgreement(family, size, solver);
+}
+
+TEST_CASE("MUMPS reuses its factorization across ranks as in one process", "[mpi][agreement]") {
+  // (NewtonParams::reuseFactorization, on by default): CG preconditioned by
+  // the distributed factor, on products of each rank's own rows, gathered.
+  // The beam is large enough for a factorization to be worth CG iterations
+  // (12x3x3 is not: it refactorizes every iteration)
+  auto const [referenceReuse, distributedReuse] = CheckAgreement("cantilever", "24x6x6", {LinearSolverType::PetscMumps});
+  CAPTURE(referenceReuse, distributedReuse);
+  REQUIRE(referenceReuse > 0);
+  REQUIRE(distributedReuse > 0);
 }
 
 TEST_CASE("a Newton failure on one rank fails the step on both and changes nothing",
