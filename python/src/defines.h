@@ -13,6 +13,7 @@ void DefineHandle(py::module_& m);
 void DefineSo3(py::module_& m);
 void DefineBlasInfo(py::module_& m);
 void DefineConfig(py::module_& m);
+void DefineCommunicator(py::module_& m);
 // linsolve/
 void DefineSparseSymmetricMatrix(py::module_& m);
 void DefineLinearSolver(py::module_& m);

@@ -15,6 +15,7 @@ PYBIND11_MODULE(mochi, m) {
   DefineSo3(m);
   DefineBlasInfo(m);
   DefineConfig(m);
+  DefineCommunicator(m);
   DefineSparseSymmetricMatrix(m);
   DefineLinearSolver(m);
   DefineOrdering(m);

@@ -68,3 +68,17 @@ def valid_params(zoo):
 def about_z(angle):
     """Unit quaternion [w, x, y, z] of a rotation by `angle` about z."""
     return np.array([math.cos(angle / 2), 0, 0, math.sin(angle / 2)])
+
+
+def sagging_beam(**params):
+    """A 0.6 m beam of 12x3x3 tet cells (624 DoFs), clamped at x = 0 by stiff node
+    constraints, in a scene created with `params`; returns (scene, beam)."""
+    mesh = mochi.make_tet_box(origin=[0, 0, 0], size=[0.6, 0.15, 0.15], cells=[12, 3, 3])
+    scene = mochi.Scene.create(**params)
+    beam = scene.create_deformable_actor(nodes=mesh.nodes, tetrahedra=mesh.tetrahedra, density=1000,
+                                         young_modulus=1e6, poisson_ratio=0.3)
+    for i, x in enumerate(beam.get_node_reference_positions()):
+        if x[0] == 0:
+            scene.create_deformable_node_position_constraint(actor=beam, node_index=i, position=x,
+                                                             stiffness=1e8)
+    return scene, beam

@@ -57,6 +57,7 @@ EXPECTED = {
                         "set_relative_tolerance wants_near_null_space set_near_null_space get_num_object_builds "
                         "get_description get_factor_nonzeros get_factor_flops",
     mochi.VtkSeries: "add_frame get_path get_num_frames",
+    mochi.Communicator: "world from_fortran_handle is_set get_fortran_handle get_size get_rank",
 }
 
 MODULE = ("Error ErrorCode ActorHandle ConstraintHandle hat exp exp_matrix log left_jacobian "
@@ -64,7 +65,8 @@ MODULE = ("Error ErrorCode ActorHandle ConstraintHandle hat exp exp_matrix log l
           "IntegratorType LinearSolverType PcgPreconditioner PcgParams validate_pcg_params "
           "available_pcg_preconditioners available_linear_solvers resolve_linear_solver_type "
           "DENSE_SOLVER_MAX_SIZE LinearSolveStatus LinearSolveResult SparseSymmetricMatrix create_linear_solver "
-          "OrderingMethod HessianProjection NewtonParams SubstepParams SceneParams SceneStats ActorType JointType "
+          "OrderingMethod HessianProjection NewtonParams SubstepParams SceneParams SceneStats Communicator ActorType "
+          "JointType "
           "joint_dofs "
           "TetMaterialModel RigidActorParams DeformableActorParams RodActorParams ArticulatedLinkParams "
           "ArticulatedActorParams RodStiffness TetMesh TriangleMesh make_tet_box make_triangle_grid make_hinges "

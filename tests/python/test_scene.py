@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import mochi
+from helpers import sagging_beam
 
 G = 9.81
 
@@ -396,23 +397,11 @@ def test_params_objects():
     assert mochi.ActorHandle().is_null() and repr(mochi.ActorHandle()) == "ActorHandle()"
 
 
-def _sagging_beam(**params):
-    mesh = mochi.make_tet_box(origin=[0, 0, 0], size=[0.6, 0.15, 0.15], cells=[12, 3, 3])
-    scene = mochi.Scene.create(**params)
-    beam = scene.create_deformable_actor(nodes=mesh.nodes, tetrahedra=mesh.tetrahedra, density=1000,
-                                         young_modulus=1e6, poisson_ratio=0.3)
-    for i, x in enumerate(beam.get_node_reference_positions()):
-        if x[0] == 0:
-            scene.create_deformable_node_position_constraint(actor=beam, node_index=i, position=x,
-                                                             stiffness=1e8)
-    return scene, beam
-
-
 def test_threads_and_reused_factorizations():
     # assembly threads: results bit-identical for any count
     runs = {}
     for threads in (1, 2):
-        scene, beam = _sagging_beam(num_threads=threads, linear_solver=mochi.LinearSolverType.Cholmod)
+        scene, beam = sagging_beam(num_threads=threads, linear_solver=mochi.LinearSolverType.Cholmod)
         assert scene.get_num_threads() == threads
         assert scene.get_params().num_threads == threads
         for _ in range(3):
@@ -432,7 +421,7 @@ def test_threads_and_reused_factorizations():
         newton_params = mochi.NewtonParams(reuse_factorization=bool(reuse),
                                            reuse_forcing_terms=reuse is True)
         assert newton_params.reuse_forcing_terms == (reuse is True)
-        scene, beam = _sagging_beam(linear_solver=mochi.LinearSolverType.Dense,
+        scene, beam = sagging_beam(linear_solver=mochi.LinearSolverType.Dense,
                                     newton=newton_params)
         factorizations = reused = newton = 0
         for _ in range(5):
@@ -456,7 +445,7 @@ def test_threads_and_reused_factorizations():
     for single in (True, False):
         newton_params = mochi.NewtonParams(single_precision_reused_factor=single)
         assert newton_params.single_precision_reused_factor == single
-        scene, beam = _sagging_beam(linear_solver=mochi.LinearSolverType.Cholmod,
+        scene, beam = sagging_beam(linear_solver=mochi.LinearSolverType.Cholmod,
                                     newton=newton_params)
         for _ in range(5):
             scene.step(1 / 60)

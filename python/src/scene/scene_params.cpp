@@ -78,7 +78,11 @@ void DefineSceneParams(py::module_& m) {
       .Field("ordering", &S::ordering, "OrderingMethod, default Metis")
       .Field("num_threads", &S::numThreads,
              "threads of the assembly, >= 0; 0 (default): every CPU this process may use. Results "
-             "are bit-identical for any count");
+             "are bit-identical for any count")
+      .Field("communicator", &S::communicator,
+             "Communicator: the MPI ranks the scene runs on; default Communicator(), one process. "
+             "With Communicator.world() under mpirun every rank builds the same scene; "
+             "linear_solver Auto is then MUMPS, and CHOLMOD, Dense and PCG with Icc are refused");
 
   using T = SceneStats;
   py::class_<T>(
@@ -131,6 +135,9 @@ void DefineSceneParams(py::module_& m) {
                     "any stage)")
       .def_readonly("gradient_norm", &T::gradientNorm, "||∇E||∞ at the last Newton iteration")
       .def_readonly("num_dofs", &T::numDofs)
+      .def_readonly("ranks", &T::ranks, "MPI ranks of SceneParams.communicator")
+      .def_readonly("owned_dofs", &T::ownedDofs,
+                    "DoFs (Hessian rows) this rank owns: num_dofs on one rank")
       .def_readonly("hessian_nonzeros", &T::hessianNonzeros, "stored (upper triangle) entries")
       .def_readonly("factor_nonzeros", &T::factorNonzeros, "nnz(L) as the solver reports it")
       .def_readonly("factor_flops", &T::factorFlops)

@@ -1,0 +1,70 @@
+"""A scene built from Python on the 2 ranks of `mpiexec -n 2` (SceneParams.communicator =
+mochi.Communicator.world()) agrees with the same scene in one process, with MUMPS and with
+PCG + GAMG; CHOLMOD across the ranks is refused with a mochi.Error naming it.
+
+ctest starts it through mpiexec (tests/mpi/CMakeLists.txt). Every rank steps the one-process
+scene too, and compares its distributed result with its own reference: an assertion failure
+exits that rank with status 1, and mpiexec reports the job failed."""
+import sys
+
+import numpy as np
+
+import mochi
+from helpers import sagging_beam
+
+DT = 1 / 60
+LENGTH = 0.6  # helpers.sagging_beam's length L [m]
+
+
+def beam_on(communicator, solver):
+    """helpers.sagging_beam (tests/python) on `communicator` with `solver`: Newton to well
+    below the compared 1e-8 L (a step as a velocity of 1e-9 m/s moves the nodes by < 2e-11 m),
+    PCG to rtol 1e-12."""
+    return sagging_beam(communicator=communicator, linear_solver=solver, num_threads=1,
+                        newton=mochi.NewtonParams(velocity_tolerance=1e-9),
+                        pcg=mochi.PcgParams(relative_tolerance=1e-12,
+                                            preconditioner=mochi.PcgPreconditioner.Gamg))
+
+
+def main():
+    world = mochi.Communicator.world()
+    assert world.is_set() and world.get_size() == 2, repr(world)
+    assert 0 <= world.get_rank() < 2
+    assert mochi.SceneParams().communicator.get_size() == 1  # the default: one process
+
+    for solver in (mochi.LinearSolverType.PetscMumps, mochi.LinearSolverType.PetscPcg):
+        reference, reference_beam = beam_on(mochi.Communicator(), solver)
+        distributed, beam = beam_on(world, solver)
+        assert distributed.get_params().communicator.get_size() == 2
+        initial = reference_beam.get_node_positions()
+        for _ in range(20):
+            reference.step(DT)
+            distributed.step(DT)
+        stats = distributed.get_stats()
+        # the rows were divided and the solver ran across both ranks
+        assert stats.ranks == 2 and 0 < stats.owned_dofs < stats.num_dofs, stats
+        assert "2 ranks" in stats.linear_solver, stats.linear_solver
+        assert reference.get_stats().ranks == 1
+        expected = reference_beam.get_node_positions()
+        worst = np.max(np.linalg.norm(beam.get_node_positions() - expected, axis=1))
+        moved = np.max(np.linalg.norm(expected - initial, axis=1))
+        assert moved > 1e-4 * LENGTH, moved
+        assert worst <= 1e-8 * LENGTH, (str(solver), worst)
+
+    # a direct solver of one process is refused on 2 ranks, naming it
+    try:
+        beam_on(world, mochi.LinearSolverType.Cholmod)
+    except mochi.Error as error:
+        assert error.code == mochi.ErrorCode.InvalidArgument, error
+        assert "Cholmod" in str(error) and "2 ranks" in str(error), str(error)
+    else:
+        raise AssertionError("CHOLMOD on 2 ranks was not refused")
+    print(f"rank {world.get_rank()}: ok")
+
+
+if __name__ == "__main__":
+    try:
+        main()
+    except Exception as failure:  # noqa: BLE001 - any failure fails this rank
+        print(f"rank failed: {failure!r}", file=sys.stderr)
+        sys.exit(1)
