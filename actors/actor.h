@@ -5,6 +5,7 @@
 
 #include <memory>
 
+#include <superdex/assembly/owned_contributors.h>
 #include <superdex/core/handle.h>
 #include <superdex/core/types.h>
 
@@ -110,8 +111,12 @@ class Actor {
   /// inertial target and weight (from the integrator coefficients). An actor
   /// without history yet (its first step) uses backward Euler's coefficients.
   virtual void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) = 0;
-  /// Inertia + gravity (+ internal elastic) energy at the current iterate.
-  virtual real Energy() const = 0;
+  /// Inertia + gravity (+ internal elastic) energy at the current iterate,
+  /// of the contributors `owned` says this rank counts (in
+  /// AppendContributorDofs's order): the whole energy when it is empty, as
+  /// in one process. Across MPI ranks each rank counts its own contributors
+  /// and the stage solver adds the ranks' sums (docs/distributed.md).
+  virtual real Energy(internal::OwnedContributors owned) const = 0;
   /// Adds the energy gradient and the Hessian blocks through the assembler
   /// (AddGradient, AddBlock: at most one of each per contributor),
   /// contributors starting at `firstContributor`; loops over many elements

@@ -498,7 +498,8 @@ void ArticulatedActor::BeginStage(internal::StageCoefficients const& requested, 
   ApplyLocalIncrement(jointTarget_.data(), 1);
 }
 
-real ArticulatedActor::Energy() const {
+real ArticulatedActor::Energy(internal::OwnedContributors owned) const {
+  if (!owned(0)) return 0;  // its one dense contributor
   ComputeKinematics(state_.joints, kinematics_);
   real energy = 0;
   for (int i = 0; i < GetNumLinks(); ++i)

@@ -178,7 +178,7 @@ class ArticulatedActor final : public Actor {
   void WriteDofInverseMasses(Span<real> inverseMasses) const override;
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
-  real Energy() const override;
+  real Energy(internal::OwnedContributors owned) const override;
   void AddGradientAndHessian(internal::HessianAssembler& assembler,
                              int firstContributor, bool projectHessian) const override;
   void SaveIterate() override;

@@ -182,15 +182,24 @@ Eigen::Matrix<real, 3 * N, 1> DeformableActor::Gather(std::array<int, N> const& 
   return x;
 }
 
-real DeformableActor::GetElasticEnergy() const {
+real DeformableActor::ElasticEnergy(internal::OwnedContributors owned) const {
+  // contributors: nodes, tetrahedra, triangles, hinges (AppendContributorDofs)
+  int const firstTet = GetNumNodes();
+  int const numTets = static_cast<int>(tetrahedra_.size());
+  int const firstTriangle = firstTet + numTets;
+  int const numTriangles = static_cast<int>(triangles_.size());
+  int const firstHinge = firstTriangle + numTriangles;
   real energy = 0;
-  for (std::size_t e = 0; e < tetrahedra_.size(); ++e)
-    energy += internal::TetEnergy(material_, lame_, tetRest_[e], Gather<4>(tetrahedra_[e]));
-  for (std::size_t e = 0; e < triangles_.size(); ++e)
-    energy += internal::MembraneEnergy(lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
-                                       Gather<3>(triangles_[e]));
-  for (std::size_t e = 0; e < hinges_.size(); ++e)
-    energy += internal::BendingEnergy(bendingStiffness_, hingeRest_[e], Gather<4>(hinges_[e]));
+  for (int e = 0; e < numTets; ++e)
+    if (owned(firstTet + e))
+      energy += internal::TetEnergy(material_, lame_, tetRest_[e], Gather<4>(tetrahedra_[e]));
+  for (int e = 0; e < numTriangles; ++e)
+    if (owned(firstTriangle + e))
+      energy += internal::MembraneEnergy(lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
+                                         Gather<3>(triangles_[e]));
+  for (int e = 0; e < static_cast<int>(hinges_.size()); ++e)
+    if (owned(firstHinge + e))
+      energy += internal::BendingEnergy(bendingStiffness_, hingeRest_[e], Gather<4>(hinges_[e]));
   return energy;
 }
 
@@ -258,13 +267,14 @@ void DeformableActor::BeginStage(internal::StageCoefficients const& requested, R
   }
 }
 
-real DeformableActor::Energy() const {
+real DeformableActor::Energy(internal::OwnedContributors owned) const {
   real energy = 0;
   for (int i = 0; i < GetNumNodes(); ++i) {
+    if (!owned(i)) continue;
     Real3 const& u = state_.displacement[i];
     energy += mass_[i] * (0.5 * weight_ * (u - target_[i]).squaredNorm() - gravityLocal_.dot(u));
   }
-  return energy + GetElasticEnergy();
+  return energy + ElasticEnergy(owned);
 }
 
 void DeformableActor::AddGradientAndHessian(internal::HessianAssembler& assembler,

@@ -75,7 +75,7 @@ class DeformableActor final : public NodalActor {
 
   real GetKineticEnergy() const;
   /// Elastic energy of every element at the current configuration.
-  real GetElasticEnergy() const;
+  real GetElasticEnergy() const { return ElasticEnergy({}); }
   /// Tetrahedra with det F <= 0 now.
   int CountInvertedTetrahedra() const;
 
@@ -97,7 +97,9 @@ class DeformableActor final : public NodalActor {
   /// 40×8×8 beam (dt = 1/60, CHOLMOD) it takes 4.5 instead of 5.5 Newton
   /// iterations per step over steps 2–12.
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
-  real Energy() const override;
+  real Energy(internal::OwnedContributors owned) const override;
+  /// Elastic energy of the `owned` elements (Energy's argument; empty: all).
+  real ElasticEnergy(internal::OwnedContributors owned) const;
   void AddGradientAndHessian(internal::HessianAssembler& assembler,
                              int firstContributor, bool projectHessian) const override;
   void SaveIterate() override;

@@ -111,7 +111,8 @@ void RigidActor::BeginStage(internal::StageCoefficients const& requested, Real3 
   inertiaStage_.Begin(stage_, mass_, inertia_, state_);
 }
 
-real RigidActor::Energy() const {
+real RigidActor::Energy(internal::OwnedContributors owned) const {
+  if (!owned(0)) return 0;  // its one contributor
   return inertiaStage_.Energy(state_.position, state_.rotation) - mass_ * gravity_.dot(state_.position);
 }
 

@@ -70,7 +70,7 @@ class RigidActor final : public Actor {
   void WriteDofInverseMasses(Span<real> inverseMasses) const override;
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
-  real Energy() const override;
+  real Energy(internal::OwnedContributors owned) const override;
   void AddGradientAndHessian(internal::HessianAssembler& assembler,
                              int firstContributor, bool projectHessian) const override;
   void SaveIterate() override;

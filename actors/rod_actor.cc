@@ -257,11 +257,16 @@ real RodActor::StencilEnergy(int i) const {
                                       state_.referenceTwist[i - 1]);
 }
 
-real RodActor::GetElasticEnergy() const {
+real RodActor::ElasticEnergy(internal::OwnedContributors owned) const {
+  // contributors: nodes, elements, stencils (AppendContributorDofs); stencil
+  // s has interior node s + 1
+  int const firstElement = GetNumNodes();
+  int const firstStencil = firstElement + GetNumElements();
   real energy = 0;
   for (int e = 0; e < GetNumElements(); ++e)
-    energy += internal::RodStretchEnergy(stiffness_.stretch, restLength_[e], Edge(e));
-  for (int i = 1; i + 1 < GetNumNodes(); ++i) energy += StencilEnergy(i);
+    if (owned(firstElement + e)) energy += internal::RodStretchEnergy(stiffness_.stretch, restLength_[e], Edge(e));
+  for (int i = 1; i + 1 < GetNumNodes(); ++i)
+    if (owned(firstStencil + i - 1)) energy += StencilEnergy(i);
   return energy;
 }
 
@@ -336,15 +341,16 @@ void RodActor::BeginStage(internal::StageCoefficients const& requested, Real3 co
   }
 }
 
-real RodActor::Energy() const {
+real RodActor::Energy(internal::OwnedContributors owned) const {
   real energy = 0;
   for (int i = 0; i < GetNumNodes(); ++i) {
+    if (!owned(i)) continue;
     Real3 const& u = state_.displacement[i];
     real const dTwist = state_.twist[i] - twistTarget_[i];
     energy += 0.5 * weight_ * (mass_[i] * (u - target_[i]).squaredNorm() + twistInertia_[i] * dTwist * dTwist) -
               mass_[i] * gravity_.dot(u);
   }
-  return energy + GetElasticEnergy();
+  return energy + ElasticEnergy(owned);
 }
 
 void RodActor::AddGradientAndHessian(internal::HessianAssembler& assembler,

@@ -93,7 +93,7 @@ class RodActor final : public NodalActor {
 
   real GetKineticEnergy() const;
   /// Stretching + bending + twisting energy at the current configuration.
-  real GetElasticEnergy() const;
+  real GetElasticEnergy() const { return ElasticEnergy({}); }
 
  private:
   explicit RodActor(int numNodes) : NodalActor(ActorType::Rod, numNodes, 4) {}
@@ -115,7 +115,7 @@ class RodActor final : public NodalActor {
   void WriteDofInverseMasses(Span<real> inverseMasses) const override;
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
   void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
-  real Energy() const override;
+  real Energy(internal::OwnedContributors owned) const override;
   void AddGradientAndHessian(internal::HessianAssembler& assembler,
                              int firstContributor, bool projectHessian) const override;
   void SaveIterate() override;
@@ -129,6 +129,9 @@ class RodActor final : public NodalActor {
   Real3 Edge(int e) const { return GetNodePosition(e + 1) - GetNodePosition(e); }
   /// Bending–twisting energy of the stencil at interior node i.
   real StencilEnergy(int i) const;
+  /// Stretching + bending + twisting energy of the `owned` elements and
+  /// stencils (Energy's argument; empty: all).
+  real ElasticEnergy(internal::OwnedContributors owned) const;
 
   // definition (immutable after creation)
   DynamicArray<Real3> reference_;

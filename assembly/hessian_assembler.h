@@ -27,6 +27,7 @@
 #include <cstdint>
 
 #include <superdex/assembly/ordering.h>
+#include <superdex/assembly/owned_contributors.h>
 #include <superdex/core/parallel.h>
 #include <superdex/core/error.h>
 #include <superdex/core/types.h>
@@ -75,6 +76,12 @@ class HessianAssembler {
   /// Whether contributor `c`'s first DoF is owned (its energy is this part's
   /// to count). Always true on one part.
   bool Owns(int c) const { return owned_.empty() || owned_[c] != 0; }
+  /// Owns for the `count` contributors from `first` (an actor's), indexed
+  /// from 0: Actor::Energy's argument.
+  OwnedContributors GetOwnedContributors(int first, int count) const {
+    if (owned_.empty()) return {};
+    return {Span<std::uint8_t const>(owned_.data() + first, static_cast<std::size_t>(count))};
+  }
 
   /// The threads of ParallelFor and of the staged sums; nullptr (the
   /// default) or one thread: serial. Staging memory is sized here and at

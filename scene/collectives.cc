@@ -21,11 +21,15 @@ bool OnAllRanks(Communicator const& communicator, bool value) {
   return all != 0;
 }
 
-real SumInRankOrder(Communicator const& communicator, real value, DynamicArray<real>& scratch) {
-  MPI_Allgather(&value, 1, MPI_DOUBLE, scratch.data(), 1, MPI_DOUBLE, ToMpiComm(communicator));
-  real sum = 0;
-  for (real v : scratch) sum += v;
-  return sum;
+void SumInRankOrder(Communicator const& communicator, Span<real> values, DynamicArray<real>& scratch) {
+  int const count = static_cast<int>(values.size());
+  MPI_Allgather(values.data(), count, MPI_DOUBLE, scratch.data(), count, MPI_DOUBLE, ToMpiComm(communicator));
+  int const ranks = static_cast<int>(scratch.size()) / count;
+  for (int k = 0; k < count; ++k) {
+    real sum = 0;
+    for (int r = 0; r < ranks; ++r) sum += scratch[r * count + k];
+    values[k] = sum;
+  }
 }
 
 void OwnedRowsProduct::Set(Communicator const& communicator, DynamicArray<int> const* partRowStart) {

@@ -21,10 +21,10 @@ void AllgatherRows(Communicator const& communicator, DynamicArray<int> const& pa
 /// True on every rank when `value` is true on every rank (MPI_LAND).
 bool OnAllRanks(Communicator const& communicator, bool value);
 
-/// The sum of every rank's `value`, added in rank order, so that every rank
-/// gets the same bits (MPI_Allgather, then a sum). `scratch` holds one entry
-/// per rank, sized by the caller.
-real SumInRankOrder(Communicator const& communicator, real value, DynamicArray<real>& scratch);
+/// Each of `values` replaced by its sum over the ranks, added in rank order
+/// so that every rank gets the same bits (MPI_Allgather, then the sums).
+/// `scratch` holds values.size() entries per rank, sized by the caller.
+void SumInRankOrder(Communicator const& communicator, Span<real> values, DynamicArray<real>& scratch);
 
 /// ReusedFactorCg's product across ranks: each rank multiplies its own rows
 /// [partRowStart[rank], partRowStart[rank+1]) of the partition-major order

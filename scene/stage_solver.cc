@@ -77,6 +77,7 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
     maxDimension = std::max(maxDimension, constraint->GetDimension());
     maxDofs = std::max(maxDofs, constraint->GetNumDofs());
   }
+  firstContributor.push_back(static_cast<int>(contributorDofs.size()));  // the end of the last
   if (!assembler_.Analyze(numDofs, blockSizes, contributorDofs, ordering, error, numRanks_, rank_))
     return false;
   ordering_ = ordering;
@@ -99,6 +100,7 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
     orderedGradient_.setZero(numDofs);
     rankCounts_.assign(numRanks_, 0);
     rankDisplacements_.assign(numRanks_, 0);
+    rankSums_.assign(2 * static_cast<std::size_t>(numRanks_), 0);
   }
   stats.patternBuilds = assembler_.GetNumPatternBuilds();
   stats.numDofs = numDofs;
@@ -328,16 +330,28 @@ real StageSolver::ForcingTerm(int iteration, real gradientNorm, real tightest, r
 
 real StageSolver::TotalEnergy(DynamicArray<Actor*> const& actors,
                               DynamicArray<Constraint*> const& constraints, real h) {
+  // each contributor is counted by the one rank that owns it (all of them in
+  // one process), and the ranks' sums are added in rank order: every rank
+  // gets the same bits
   real energy = 0, scale = 0;
-  for (Actor* actor : actors) {
-    real const term = actor->Energy();
+  int const numActors = static_cast<int>(actors.size());
+  for (int a = 0; a < numActors; ++a) {
+    real const term = actors[a]->Energy(assembler_.GetOwnedContributors(
+        firstContributor_[a], firstContributor_[a + 1] - firstContributor_[a]));
     energy += term;
     scale += std::abs(term);
   }
-  for (Constraint* constraint : constraints) {
-    real const term = constraint->Energy(h, constraintWorkspace_);
+  for (std::size_t c = 0; c < constraints.size(); ++c) {
+    if (!assembler_.Owns(firstContributor_[numActors + c])) continue;
+    real const term = constraints[c]->Energy(h, constraintWorkspace_);
     energy += term;
     scale += std::abs(term);
+  }
+  if (IsDistributed()) {
+    real sums[2] = {energy, scale};
+    SumInRankOrder(communicator_, sums, rankSums_);
+    energy = sums[0];
+    scale = sums[1];
   }
   energyScale_ = scale;
   return energy;

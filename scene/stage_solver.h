@@ -135,6 +135,7 @@ class StageSolver {
   VectorX orderedGradient_;                  ///< gradient_ in the partition-major order
   OwnedRowsProduct ownedRowsProduct_;        ///< reuseCg_'s product
   DynamicArray<int> rankCounts_, rankDisplacements_;  ///< MPI_Allgatherv scratch
+  DynamicArray<real> rankSums_;  ///< SumInRankOrder scratch: 2 per rank
 };
 
 }  // namespace superdex::internal

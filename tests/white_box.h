@@ -80,7 +80,7 @@ struct ActorTestAccess {
   static void BeginStage(Actor& a, StageCoefficients const& stage, Real3 const& gravity) {
     a.BeginStage(stage, gravity);
   }
-  static real Energy(Actor const& a) { return a.Energy(); }
+  static real Energy(Actor const& a, OwnedContributors owned = {}) { return a.Energy(owned); }
   static void AddGradientAndHessian(Actor const& a, Span<real> gradient, HessianAssembler& assembler,
                                     int firstContributor, bool projectHessian = true) {
     assembler.BeginAssembly(gradient);

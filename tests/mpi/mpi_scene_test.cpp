@@ -16,6 +16,7 @@
 #include <superdex/scene/stage_solver.h>
 
 #include "harness/families.h"
+#include "white_box.h"
 
 using namespace superdex;
 
@@ -155,6 +156,55 @@ TEST_CASE("MUMPS reuses its factorization across ranks as in one process", "[mpi
   CAPTURE(referenceReuse, distributedReuse);
   REQUIRE(referenceReuse > 0);
   REQUIRE(distributedReuse > 0);
+}
+
+TEST_CASE("each contributor's energy is counted on exactly one rank", "[mpi][energy]") {
+  // The stage solver's energy across ranks (the line search's): each rank
+  // sums the contributors it owns (HessianAssembler::Owns, the owner of
+  // their first DoF) through Actor::Energy(owned), and the ranks' sums are
+  // added. Checked here on the assembler and the actors directly: the flags
+  // split the contributors, and each actor's shares add up to its energy.
+  auto const [family, size] = GENERATE(std::pair<std::string, std::string>{"cantilever", "12x3x3"},
+                                       std::pair<std::string, std::string>{"cloth", "8x8"},
+                                       std::pair<std::string, std::string>{"rods", "6x24"},
+                                       std::pair<std::string, std::string>{"chain-articulated", "N=8"},
+                                       std::pair<std::string, std::string>{"chain", "N=8"});
+  CAPTURE(family, size);
+  perf::FamilyScene scene = Build(family, size, Params(Communicator(), {LinearSolverType::PetscMumps}));
+  Steps(*scene.scene, 2);  // a deformed state, and a stage's targets to measure against
+  using Access = internal::ActorTestAccess;
+  DynamicArray<Actor const*> actors;
+  DynamicArray<int> blockSizes, firstContributor;
+  DynamicArray<DynamicArray<int>> contributorDofs;
+  scene.scene->ForEachActor([&](Actor const& actor) {
+    actors.push_back(&actor);
+    Access::AppendDofBlockSizes(actor, blockSizes);
+    firstContributor.push_back(static_cast<int>(contributorDofs.size()));
+    Access::AppendContributorDofs(actor, contributorDofs);
+  });
+  firstContributor.push_back(static_cast<int>(contributorDofs.size()));
+  int const numContributors = firstContributor.back();
+
+  internal::HessianAssembler assembler;
+  Error error;
+  REQUIRE(assembler.Analyze(scene.scene->GetNumDofs(), blockSizes, contributorDofs, OrderingMethod::Metis,
+                            error, 2, Rank()));
+  // every contributor owned by exactly one rank
+  DynamicArray<int> owners(numContributors);
+  for (int c = 0; c < numContributors; ++c) owners[c] = assembler.Owns(c) ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, owners.data(), numContributors, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  REQUIRE(std::all_of(owners.begin(), owners.end(), [](int n) { return n == 1; }));
+
+  for (std::size_t a = 0; a < actors.size(); ++a) {
+    int const count = firstContributor[a + 1] - firstContributor[a];
+    real const whole = Access::Energy(*actors[a]);
+    real shares[2] = {Access::Energy(*actors[a], assembler.GetOwnedContributors(firstContributor[a], count)), 0};
+    shares[1] = std::abs(shares[0]);
+    MPI_Allreduce(MPI_IN_PLACE, shares, 2, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    CAPTURE(a, count, whole, shares[0]);
+    // the same terms added in another grouping: round-off of the terms' size
+    REQUIRE(std::abs(shares[0] - whole) <= 1e-12 * shares[1]);
+  }
 }
 
 TEST_CASE("a Newton failure on one rank fails the step on both and changes nothing",
