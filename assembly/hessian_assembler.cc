@@ -70,9 +70,10 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
 
   // the contributors this part evaluates (one of its DoFs owned) and owns
   // (its first DoF owned; part 0 owns those without DoFs)
+  bool const divided = numParts > 1;
+  int const rowBegin = partRowStart[part], rowEnd = partRowStart[part + 1];
   DynamicArray<std::uint8_t> evaluated, owned;
-  if (numParts > 1) {
-    int const rowBegin = partRowStart[part], rowEnd = partRowStart[part + 1];
+  if (divided) {
     auto const isOwned = [&](int dof) {
       return permutation[dof] >= rowBegin && permutation[dof] < rowEnd;
     };
@@ -85,15 +86,23 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
     }
   }
 
-  // upper-triangle pattern of P H Pᵀ: rows per column, sorted and unique
+  // upper-triangle pattern of P H Pᵀ: rows per column, sorted and unique.
+  // On one part of several only the entries with an owned row or column
+  // (and every diagonal), from the contributors the part evaluates.
+  auto const stored = [&](int row, int col) {
+    return !divided || (row >= rowBegin && row < rowEnd) || (col >= rowBegin && col < rowEnd);
+  };
+  auto const assembled = [&](std::size_t c) { return !divided || evaluated[c] != 0; };
   DynamicArray<DynamicArray<int>> columns(numDofs);
   for (int d = 0; d < numDofs; ++d) columns[d].push_back(d);
-  for (auto const& dofs : contributorDofs)
-    for (int i : dofs)
-      for (int j : dofs) {
+  for (std::size_t c = 0; c < contributorDofs.size(); ++c) {
+    if (!assembled(c)) continue;
+    for (int i : contributorDofs[c])
+      for (int j : contributorDofs[c]) {
         int const pi = permutation[i], pj = permutation[j];
-        if (pi <= pj) columns[pj].push_back(pi);
+        if (pi <= pj && stored(pi, pj)) columns[pj].push_back(pi);
       }
+  }
   SparseSymmetricMatrix matrix;
   matrix.size = numDofs;
   matrix.colStart.assign(numDofs + 1, 0);
@@ -110,25 +119,36 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
   for (int block : blockOrder) matrix.blockSizes.push_back(blockSizes[block]);
   matrix.patternVersion = NextPatternVersion();
 
-  // DoF lists and slot table: local upper triangle (a <= b, row-major) → value index
+  // DoF lists and slot table: local upper triangle (a <= b, row-major) →
+  // value index, or −1 for an entry not stored; none for a contributor that
+  // is not assembled here
   DynamicArray<int> dofStart, dofList, slotStart, slots;
   dofStart.reserve(contributorDofs.size() + 1);
-  slotStart.reserve(contributorDofs.size());
-  for (auto const& dofs : contributorDofs) {
-    int const n = static_cast<int>(dofs.size());
+  slotStart.reserve(contributorDofs.size() + 1);
+  bool dropsEntries = false;
+  for (std::size_t c = 0; c < contributorDofs.size(); ++c) {
     dofStart.push_back(static_cast<int>(dofList.size()));
-    dofList.insert(dofList.end(), dofs.begin(), dofs.end());
     slotStart.push_back(static_cast<int>(slots.size()));
+    if (!assembled(c)) continue;
+    auto const& dofs = contributorDofs[c];
+    int const n = static_cast<int>(dofs.size());
+    dofList.insert(dofList.end(), dofs.begin(), dofs.end());
     for (int a = 0; a < n; ++a)
       for (int b = a; b < n; ++b) {
         int const pa = permutation[dofs[a]], pb = permutation[dofs[b]];
         int const row = std::min(pa, pb), col = std::max(pa, pb);
+        if (!stored(row, col)) {
+          slots.push_back(-1);
+          dropsEntries = true;
+          continue;
+        }
         auto first = matrix.rowIndex.begin() + matrix.colStart[col];
         auto last = matrix.rowIndex.begin() + matrix.colStart[col + 1];
         slots.push_back(static_cast<int>(std::lower_bound(first, last, row) - matrix.rowIndex.begin()));
       }
   }
   dofStart.push_back(static_cast<int>(dofList.size()));
+  slotStart.push_back(static_cast<int>(slots.size()));
 
   // commit
   matrix_ = std::move(matrix);
@@ -141,6 +161,7 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
   dofs_ = std::move(dofList);
   slotStart_ = std::move(slotStart);
   slots_ = std::move(slots);
+  dropsEntries_ = dropsEntries;
   analyzed_ = true;
   ++numBuilds_;
   PrepareStaging();
@@ -154,15 +175,18 @@ void HessianAssembler::SetExecutor(ParallelExecutor const* executor) {
 
 namespace {
 /// For every target t in [0, numTargets): the positions p of `targets` with
-/// targets[p] == t, ascending (a counting sort).
+/// targets[p] == t, ascending (a counting sort). Negative targets (entries
+/// not stored) are nobody's source.
 void InvertMap(DynamicArray<int> const& targets, int numTargets, DynamicArray<int>& start,
                DynamicArray<int>& sources) {
   start.assign(numTargets + 1, 0);
-  for (int t : targets) ++start[t + 1];
+  for (int t : targets)
+    if (t >= 0) ++start[t + 1];
   for (int t = 0; t < numTargets; ++t) start[t + 1] += start[t];
-  sources.resize(targets.size());
+  sources.resize(static_cast<std::size_t>(start[numTargets]));
   DynamicArray<int> next(start.begin(), start.end() - 1);
-  for (std::size_t p = 0; p < targets.size(); ++p) sources[next[targets[p]]++] = static_cast<int>(p);
+  for (std::size_t p = 0; p < targets.size(); ++p)
+    if (targets[p] >= 0) sources[next[targets[p]]++] = static_cast<int>(p);
 }
 /// Grain of the parallel loops over entries and staging slots
 constexpr int kEntryGrain = 4096;
@@ -184,8 +208,8 @@ void HessianAssembler::PrepareStaging() {
   }
   valueStage_.assign(slots_.size(), 0);
   gradientStage_.assign(dofs_.size(), 0);
-  blockStamp_.assign(slotStart_.size(), 0);
-  gradientStamp_.assign(slotStart_.size(), 0);
+  blockStamp_.assign(static_cast<std::size_t>(GetNumContributors()), 0);
+  gradientStamp_.assign(static_cast<std::size_t>(GetNumContributors()), 0);
   stamp_ = 0;
   InvertMap(slots_, static_cast<int>(matrix_.values.size()), valueSourceStart_, valueSources_);
   InvertMap(dofs_, matrix_.size, gradientSourceStart_, gradientSources_);
@@ -213,10 +237,8 @@ void HessianAssembler::FinishAssembly() {
   int const numContributors = GetNumContributors();
   executor_->For(numContributors, kEntryGrain, [this](int begin, int end, int) {
     for (int c = begin; c < end; ++c) {
-      if (blockStamp_[c] != stamp_) {
-        int const n = dofStart_[c + 1] - dofStart_[c];
-        std::fill_n(valueStage_.begin() + slotStart_[c], n * (n + 1) / 2, real(0));
-      }
+      if (blockStamp_[c] != stamp_)
+        std::fill(valueStage_.begin() + slotStart_[c], valueStage_.begin() + slotStart_[c + 1], real(0));
       if (gradientStamp_[c] != stamp_)
         std::fill(gradientStage_.begin() + dofStart_[c], gradientStage_.begin() + dofStart_[c + 1], real(0));
     }

@@ -52,15 +52,24 @@ class HessianAssembler {
   /// fill-reducing order), and this process is part `part`: it owns the rows
   /// GetOwnedRows(), evaluates only the contributors that touch one of them
   /// (Evaluates), and counts in its share of the energy the contributors
-  /// whose first DoF it owns (Owns). Only entries with an owned row or column
-  /// are then assembled completely; the gradient only in owned DoFs.
+  /// whose first DoF it owns (Owns). It stores only the entries with an owned
+  /// row or column (and every column's diagonal, the pattern's invariant,
+  /// zero where not owned), and the DoF lists and slots of the contributors
+  /// it evaluates: its memory is its part's. Those entries are assembled
+  /// completely; the gradient only in owned DoFs.
   bool Analyze(int numDofs, DynamicArray<int> const& blockSizes,
                DynamicArray<DynamicArray<int>> const& contributorDofs, OrderingMethod method,
                Error& error, int numParts = 1, int part = 0);
 
   bool IsAnalyzed() const { return analyzed_; }
   int GetNumDofs() const { return matrix_.size; }
-  int GetNumContributors() const { return static_cast<int>(slotStart_.size()); }
+  /// Stored entries in the owned columns: the whole pattern's count on one
+  /// part; summed over the parts, the whole pattern's (each entry (i, j),
+  /// i <= j, is in the columns of the part that owns j).
+  std::int64_t CountOwnedColumnEntries() const {
+    return matrix_.colStart[GetOwnedRowEnd()] - matrix_.colStart[GetOwnedRowBegin()];
+  }
+  int GetNumContributors() const { return static_cast<int>(slotStart_.size()) - 1; }
   /// How many times Analyze built a pattern since construction.
   std::int64_t GetNumPatternBuilds() const { return numBuilds_; }
 
@@ -147,10 +156,19 @@ class HessianAssembler {
         for (int a = 0; a < n; ++a)
           for (int b = a; b < n; ++b) *out++ += h(a, b);
       }
-    } else {
+    } else if (!dropsEntries_) {
       real* values = matrix_.values.data();
       for (int a = 0; a < n; ++a)
         for (int b = a; b < n; ++b) values[*slot++] += h(a, b);
+    } else {
+      // on one part of several: the entries of other parts' rows and
+      // columns are not stored (slot −1)
+      real* values = matrix_.values.data();
+      for (int a = 0; a < n; ++a)
+        for (int b = a; b < n; ++b) {
+          int const s = *slot++;
+          if (s >= 0) values[s] += h(a, b);
+        }
     }
   }
 
@@ -169,10 +187,15 @@ class HessianAssembler {
   std::int64_t numBuilds_ = 0;
   SparseSymmetricMatrix matrix_;
   DynamicArray<int> permutation_;  ///< natural DoF → ordered position
-  DynamicArray<int> dofStart_;     ///< per contributor, into dofs_ (one past the end last)
+  /// per contributor, into dofs_ (one past the end last); on one part of
+  /// several, a contributor this part does not evaluate has no DoFs here
+  DynamicArray<int> dofStart_;
   DynamicArray<int> dofs_;         ///< the contributors' DoF lists, concatenated
-  DynamicArray<int> slotStart_;    ///< per contributor, into slots_
-  DynamicArray<int> slots_;        ///< value index of each local upper-triangle entry
+  DynamicArray<int> slotStart_;    ///< per contributor, into slots_ (one past the end last)
+  /// value index of each local upper-triangle entry; −1 for an entry not
+  /// stored (one part of several: neither its row nor its column is owned)
+  DynamicArray<int> slots_;
+  bool dropsEntries_ = false;      ///< some slot is −1
   Span<real> gradient_;            ///< of the assembly in progress
   DynamicArray<int> partRowStart_{0, 0};  ///< per part, its first ordered row; then numDofs
   int part_ = 0;                          ///< this process's part

@@ -24,7 +24,7 @@ bool OnAllRanks(Communicator const& communicator, bool value) {
 void SumInRankOrder(Communicator const& communicator, Span<real> values, DynamicArray<real>& scratch) {
   int const count = static_cast<int>(values.size());
   MPI_Allgather(values.data(), count, MPI_DOUBLE, scratch.data(), count, MPI_DOUBLE, ToMpiComm(communicator));
-  int const ranks = static_cast<int>(scratch.size()) / count;
+  int const ranks = communicator.GetSize();
   for (int k = 0; k < count; ++k) {
     real sum = 0;
     for (int r = 0; r < ranks; ++r) sum += scratch[r * count + k];

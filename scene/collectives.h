@@ -23,7 +23,8 @@ bool OnAllRanks(Communicator const& communicator, bool value);
 
 /// Each of `values` replaced by its sum over the ranks, added in rank order
 /// so that every rank gets the same bits (MPI_Allgather, then the sums).
-/// `scratch` holds values.size() entries per rank, sized by the caller.
+/// `scratch` holds at least values.size() entries per rank, sized by the
+/// caller.
 void SumInRankOrder(Communicator const& communicator, Span<real> values, DynamicArray<real>& scratch);
 
 /// ReusedFactorCg's product across ranks: each rank multiplies its own rows

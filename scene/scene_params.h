@@ -192,7 +192,7 @@ struct SceneStats {
   int numDofs = 0;
   int ranks = 1;      ///< MPI ranks of SceneParams::communicator
   int ownedDofs = 0;  ///< DoFs (Hessian rows) this rank owns: numDofs on one rank
-  std::int64_t hessianNonzeros = 0;  ///< stored (upper triangle) entries
+  std::int64_t hessianNonzeros = 0;  ///< upper-triangle entries of the whole Hessian (on several ranks each stores its part)
   double factorNonzeros = 0;         ///< nnz(L) as the solver reports it
   double factorFlops = 0;
   std::string linearSolver;          ///< what ran, as the backend reports it

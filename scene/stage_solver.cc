@@ -106,7 +106,14 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   stats.numDofs = numDofs;
   stats.ranks = numRanks_;
   stats.ownedDofs = assembler_.GetOwnedRowEnd() - assembler_.GetOwnedRowBegin();
-  stats.hessianNonzeros = assembler_.GetMatrix().NumNonzeros();
+  // the whole pattern's entries: each rank stores only its part of it
+  hessianNonzeros_ = assembler_.CountOwnedColumnEntries();
+  if (IsDistributed()) {
+    real count[1] = {static_cast<real>(hessianNonzeros_)};  // exact below 2⁵³
+    SumInRankOrder(communicator_, count, rankSums_);
+    hessianNonzeros_ = static_cast<std::int64_t>(count[0]);
+  }
+  stats.hessianNonzeros = hessianNonzeros_;
   return true;
 }
 
@@ -264,7 +271,7 @@ int StageSolver::ReuseIterationCap() const {
   if (!(factorFlops > 0) || !(factorNonzeros > 0)) return 0;
   // a CG iteration: L and Lᵀ solves (2 nnz(L) multiply-adds each) and the
   // product with the stored upper triangle (2 per entry)
-  double const iterationFlops = 4 * factorNonzeros + 4 * double(assembler_.GetMatrix().NumNonzeros());
+  double const iterationFlops = 4 * factorNonzeros + 4 * double(hessianNonzeros_);
   return static_cast<int>(std::min<double>(kMaxReuseIterations, factorFlops / (kFactorToSolveRate * iterationFlops)));
 }
 

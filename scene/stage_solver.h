@@ -127,6 +127,7 @@ class StageSolver {
   VectorX orderedLengthScales_;  ///< dofLengthScales_ in the fill-reducing order
   ReusedFactorCg::StepTolerance reuseStepTolerance_;  ///< over orderedLengthScales_, per stage
   int reuseFailuresInRow_ = 0;  ///< reused-factor solves that did not converge, this stage
+  std::int64_t hessianNonzeros_ = 0;  ///< of the whole pattern (SceneStats::hessianNonzeros)
   real energyScale_ = 0;     ///< Σ|terms| of Eᵢ at the last TotalEnergy
   FaultInjection fault_;
   // across MPI ranks (IsDistributed)
