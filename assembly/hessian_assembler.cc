@@ -93,27 +93,41 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
     return !divided || (row >= rowBegin && row < rowEnd) || (col >= rowBegin && col < rowEnd);
   };
   auto const assembled = [&](std::size_t c) { return !divided || evaluated[c] != 0; };
-  DynamicArray<DynamicArray<int>> columns(numDofs);
-  for (int d = 0; d < numDofs; ++d) columns[d].push_back(d);
-  for (std::size_t c = 0; c < contributorDofs.size(); ++c) {
-    if (!assembled(c)) continue;
-    for (int i : contributorDofs[c])
-      for (int j : contributorDofs[c]) {
-        int const pi = permutation[i], pj = permutation[j];
-        if (pi <= pj && stored(pi, pj)) columns[pj].push_back(pi);
-      }
+  // Rows per column in one flat array (count, then fill; a column per DoF
+  // as separate arrays costs several times the pattern's memory at its
+  // peak), then each column sorted and deduplicated in place.
+  auto const forEachEntry = [&](auto&& visit) {
+    for (int d = 0; d < numDofs; ++d) visit(d, d);  // every diagonal
+    for (std::size_t c = 0; c < contributorDofs.size(); ++c) {
+      if (!assembled(c)) continue;
+      for (int i : contributorDofs[c])
+        for (int j : contributorDofs[c]) {
+          int const pi = permutation[i], pj = permutation[j];
+          if (pi <= pj && stored(pi, pj)) visit(pi, pj);
+        }
+    }
+  };
+  DynamicArray<std::int64_t> entryStart(numDofs + 1, 0);
+  forEachEntry([&](int, int col) { ++entryStart[col + 1]; });
+  for (int c = 0; c < numDofs; ++c) entryStart[c + 1] += entryStart[c];
+  DynamicArray<int> rows(static_cast<std::size_t>(entryStart[numDofs]));
+  {
+    DynamicArray<std::int64_t> next(entryStart.begin(), entryStart.end() - 1);
+    forEachEntry([&](int row, int col) { rows[next[col]++] = row; });
   }
   SparseSymmetricMatrix matrix;
   matrix.size = numDofs;
   matrix.colStart.assign(numDofs + 1, 0);
+  std::int64_t kept = 0;
   for (int c = 0; c < numDofs; ++c) {
-    auto& rows = columns[c];
-    std::sort(rows.begin(), rows.end());
-    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-    matrix.colStart[c + 1] = matrix.colStart[c] + static_cast<int>(rows.size());
+    auto const first = rows.begin() + entryStart[c], last = rows.begin() + entryStart[c + 1];
+    std::sort(first, last);
+    auto const end = std::unique(first, last);
+    kept = std::copy(first, end, rows.begin() + kept) - rows.begin();
+    matrix.colStart[c + 1] = static_cast<int>(kept);
   }
-  matrix.rowIndex.reserve(matrix.colStart.back());
-  for (auto const& rows : columns) matrix.rowIndex.insert(matrix.rowIndex.end(), rows.begin(), rows.end());
+  matrix.rowIndex.assign(rows.begin(), rows.begin() + kept);
+  DynamicArray<int>().swap(rows);
   matrix.values.assign(matrix.rowIndex.size(), 0);
   matrix.blockSizes.reserve(blockOrder.size());
   for (int block : blockOrder) matrix.blockSizes.push_back(blockSizes[block]);

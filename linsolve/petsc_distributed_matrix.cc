@@ -82,39 +82,49 @@ LinearSolveResult PetscDistributedMatrix::Create(SparseSymmetricMatrix const& a,
     }
   }
 
-  // the owned rows' entries as coordinates, both triangles: stored entry k =
-  // (i, j), i <= j, is (i, j) of row i and (j, i) of row j. Since i <= j,
-  // no column before rowBegin holds an owned entry.
+  // the owned rows in CSR, both triangles, columns sorted within a row:
+  // stored entry k = (i, j), i <= j, is (i, j) of row i and (j, i) of row
+  // j. Since i <= j, no column before rowBegin holds an owned entry. Going
+  // through the columns in order puts each row's entries in column order.
   auto const owned = [&](int row) { return rowBegin_ <= row && row < rowEnd_; };
-  DynamicArray<PetscInt> cooRows, cooColumns;
-  cooSource_.clear();
-  for (int j = rowBegin_; j < n; ++j)
-    for (int k = a.colStart[j]; k < a.colStart[j + 1]; ++k) {
-      int const i = a.rowIndex[k];
-      if (owned(i)) {
-        cooRows.push_back(i), cooColumns.push_back(j);
-        cooSource_.push_back(k);
+  DynamicArray<PetscInt> rowStart(static_cast<std::size_t>(ownedRows) + 1, 0), csrColumns;
+  for (int pass = 0; pass < 2; ++pass) {
+    // pass 0 counts each row's entries, pass 1 places them
+    DynamicArray<PetscInt> next(rowStart.begin(), rowStart.end() - 1);
+    for (int j = rowBegin_; j < n; ++j)
+      for (int k = a.colStart[j]; k < a.colStart[j + 1]; ++k) {
+        int const i = a.rowIndex[k];
+        auto const place = [&](int row, int column) {
+          if (pass == 0) {
+            ++rowStart[row - rowBegin_ + 1];
+            return;
+          }
+          PetscInt const position = next[row - rowBegin_]++;
+          csrColumns[position] = column;
+          entrySource_[position] = k;
+        };
+        if (owned(i)) place(i, j);
+        if (i != j && owned(j)) place(j, i);
       }
-      if (i != j && owned(j)) {
-        cooRows.push_back(j), cooColumns.push_back(i);
-        cooSource_.push_back(k);
-      }
+    if (pass == 0) {
+      for (int r = 0; r < ownedRows; ++r) rowStart[r + 1] += rowStart[r];
+      csrColumns.assign(static_cast<std::size_t>(rowStart[ownedRows]), 0);
+      entrySource_.assign(csrColumns.size(), 0);
     }
-  cooValues_.assign(cooSource_.size(), 0);
+  }
+  entryValues_.assign(entrySource_.size(), 0);
 
   SUPERDEX_PETSC(MatCreate(comm, &matrix_));
   SUPERDEX_PETSC(MatSetSizes(matrix_, ownedRows, ownedRows, n, n));
   SUPERDEX_PETSC(MatSetBlockSize(matrix_, blockSize_));
   SUPERDEX_PETSC(MatSetType(matrix_, MATMPIAIJ));
-  SUPERDEX_PETSC(MatSetPreallocationCOO(matrix_, static_cast<PetscCount>(cooRows.size()),
-                                        cooRows.data(), cooColumns.data()));
+  // with zeros: MUMPS's analysis at Analyze wants an assembled matrix
+  SUPERDEX_PETSC(MatMPIAIJSetPreallocationCSR(matrix_, rowStart.data(), csrColumns.data(), entryValues_.data()));
   // symmetric, not flagged SPD (see PetscPcgSolver); owned rows only
   SUPERDEX_PETSC(MatSetOption(matrix_, MAT_SYMMETRIC, PETSC_TRUE));
   SUPERDEX_PETSC(MatSetOption(matrix_, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
   SUPERDEX_PETSC(MatSetOption(matrix_, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE));
   SUPERDEX_PETSC(MatSetOption(matrix_, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
-  // assembled, with zeros (MUMPS's analysis at Analyze wants an assembled matrix)
-  SUPERDEX_PETSC(MatSetValuesCOO(matrix_, cooValues_.data(), INSERT_VALUES));
 
   // the vectors of the owned rows, and the gather of the solution onto every
   // rank into a vector that only ever wraps the caller's x
@@ -127,9 +137,9 @@ LinearSolveResult PetscDistributedMatrix::Create(SparseSymmetricMatrix const& a,
 }
 
 LinearSolveResult PetscDistributedMatrix::SetValues(SparseSymmetricMatrix const& a) {
-  std::size_t const numEntries = cooSource_.size();
-  for (std::size_t m = 0; m < numEntries; ++m) cooValues_[m] = a.values[cooSource_[m]];
-  SUPERDEX_PETSC(MatSetValuesCOO(matrix_, cooValues_.data(), INSERT_VALUES));
+  std::size_t const numEntries = entrySource_.size();
+  for (std::size_t m = 0; m < numEntries; ++m) entryValues_[m] = a.values[entrySource_[m]];
+  SUPERDEX_PETSC(MatUpdateMPIAIJWithArray(matrix_, entryValues_.data()));
   return {};
 }
 

@@ -4,19 +4,22 @@
 // (docs/distributed.md, docs/linear_solvers.md "Across MPI ranks").
 //
 // Layout. Rank r owns the contiguous rows [rowBegin, rowEnd) of the ordered
-// A; the ranges are in rank order and cover [0, n). Every rank holds the
-// whole upper-triangle CSC pattern, but only the entries with an owned row
-// or column hold true values: the rest are never read.
+// A; the ranges are in rank order and cover [0, n). Only the entries of A
+// with an owned row or column are read (the assembler stores no others on
+// a rank of several, HessianAssembler::Analyze).
 //
 // Create (once per pattern, collective) builds a MATMPIAIJ with the owned
 // rows, both triangles (row i gets (i, j) for every stored (min(i,j),
 // max(i,j))), block size the gcd g of A's DoF blocks when every rank's range
-// is a multiple of g (else 1). It is preallocated by coordinates
-// (MatSetPreallocationCOO) with owned rows only, so no entry travels between
-// ranks, and keeps a slot map from each coordinate entry to A's CSC value
-// index. SetValues (every Newton iteration) fills one value array through
-// that map and hands it to MatSetValuesCOO: values in place, no search, no
-// allocation. It also creates the right-hand side and solution vectors (the
+// is a multiple of g (else 1). It is preallocated from the owned rows in
+// CSR with sorted columns (MatMPIAIJSetPreallocationCSR), so no entry
+// travels between ranks, and keeps a map from each CSR entry to A's CSC
+// value index. SetValues (every Newton iteration) fills one value array
+// through that map and hands it to MatUpdateMPIAIJWithArray: values in
+// place, no search, no allocation. (Coordinate preallocation,
+// MatSetPreallocationCOO, did the same with about 130 MB more per rank on
+// the 133,623-DoF beam on 2 ranks: PETSc keeps its own maps per
+// coordinate entry.) It also creates the right-hand side and solution vectors (the
 // owned rows) and the gather of the solution onto every rank
 // (VecScatterCreateToAll).
 //
@@ -94,9 +97,10 @@ class PetscDistributedMatrix {
   _p_Vec* gathered_ = nullptr;  ///< n entries, no storage of its own: wraps the caller's x
   _p_PetscSF* gather_ = nullptr;
   int size_ = 0, rowBegin_ = 0, rowEnd_ = 0, blockSize_ = 1;
-  /// A's CSC value index of each coordinate entry given to PETSc
-  DynamicArray<int> cooSource_;
-  DynamicArray<real> cooValues_;  ///< the values of the coordinate entries
+  /// A's CSC value index of each entry of the owned rows' CSR (row by row,
+  /// columns sorted: MatUpdateMPIAIJWithArray's order)
+  DynamicArray<int> entrySource_;
+  DynamicArray<real> entryValues_;     ///< the values of those entries
   DynamicArray<int> ownedBlockSizes_;
 };
 
