@@ -164,7 +164,7 @@ LinearSolveResult PetscMumpsSolver::DoFactorize(SparseSymmetricMatrix const& a) 
 
 LinearSolveResult PetscMumpsSolver::Impl::FactorizeValues(SparseSymmetricMatrix const& a) {
   if (IsDistributed()) {
-    // the owned rows' values in place (MatSetValuesCOO through the slot map)
+    // the owned rows' values in place (PetscDistributedMatrix::SetValues)
     if (LinearSolveResult set = distributed.SetValues(a); !set.Ok()) return set;
   } else {
     // values in place

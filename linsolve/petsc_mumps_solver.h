@@ -25,7 +25,7 @@
 // ranks"): the matrix is the MPIAIJ of the owned rows, both triangles
 // (PetscDistributedMatrix, shared with the PCG backend; PETSc's MUMPS
 // interface extracts the upper triangle for the LDLᵀ factor), its values
-// set in place by MatSetValuesCOO at each Factorize. The analysis is the
+// set in place by MatUpdateMPIAIJWithArray at each Factorize. The analysis is the
 // same, plus ICNTL(13) = 1 (no ScaLAPACK on the root front, so that INFOG(12)
 // counts every negative pivot). INFOG and the inertia are global, so every
 // rank returns the same status (any rank's PETSc error is agreed on too);

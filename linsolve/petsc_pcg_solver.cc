@@ -561,7 +561,7 @@ LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   Impl& impl = *impl_;
   bool const distributed = impl.IsDistributed();
   if (distributed) {
-    // the owned rows' values in place (MatSetValuesCOO through the slot map)
+    // the owned rows' values in place (PetscDistributedMatrix::SetValues)
     if (LinearSolveResult set = impl.distributed.SetValues(a); !set.Ok()) return set;
   } else {
     // values in place: both triangles of the AIJ storage from A's upper CSC

@@ -31,8 +31,8 @@
 //
 // Across R > 1 ranks (SetDistribution; docs/linear_solvers.md "Across MPI
 // ranks"): the matrix is the MPIAIJ of the owned rows (PetscDistributedMatrix:
-// preallocated by owned coordinates once per pattern, values set in place by
-// MatSetValuesCOO at each Factorize), KSPCG runs on the communicator with
+// preallocated from the owned rows' CSR once per pattern, values set in
+// place by MatUpdateMPIAIJWithArray at each Factorize), KSPCG runs on the communicator with
 // the same tolerances, norm and options; Solve takes b's owned entries (and
 // Resume x's, as the initial guess) and gathers all of x onto every rank.
 // Jacobi, point-block Jacobi (the owned DoF blocks), GAMG (the near-null
