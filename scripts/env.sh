@@ -78,3 +78,21 @@ fi
 
 unset -f _superdex_has _superdex_tier
 unset _superdex_flags _superdex_coretype
+
+# Open MPI's session directories. `ctest -j2` starts MPI in several
+# processes at once (every PETSc test initializes it). Each creates the
+# top-level session directory <base>/ompi.<host>.<uid> if it is missing, and
+# removes it on exit if it is empty. Two processes creating it at the same
+# moment make one of them fail in MPI_Init ("mkdir ... File exists", seen
+# once in a fresh-clone run of scripts/test.sh). Here the base is a directory
+# of our own whose top-level session directory holds a file named output-*
+# (the files Open MPI's clean-up leaves in place), so it always exists and
+# is never removed. A base the caller chose is kept.
+if [[ -z ${OMPI_MCA_orte_tmpdir_base:-} ]]; then
+  export OMPI_MCA_orte_tmpdir_base="${TMPDIR:-/tmp}/superdex-ompi-$(id -u)"
+  _superdex_session="${OMPI_MCA_orte_tmpdir_base}/ompi.$(hostname -s 2>/dev/null || hostname).$(id -u)"
+  if mkdir -p "${_superdex_session}" 2>/dev/null; then
+    : >"${_superdex_session}/output-superdex-keep"
+  fi
+  unset _superdex_session
+fi

@@ -43,8 +43,10 @@ TEST_CASE("MultiplySymmetricRows forms a range of rows of the product, from the 
   VectorX const x = test::TestRhs(n, 4);
   VectorX const expected = test::Multiply(a, x);
   // the ranges of 1, 2 and 3 ranks, and an empty one
-  auto const [rowBegin, rowEnd] = GENERATE_COPY(std::pair{0, n}, std::pair{0, n / 2}, std::pair{n / 2, n},
-                                                std::pair{n / 3, 2 * n / 3}, std::pair{n / 3, n / 3});
+  // (plain ints, not structured bindings: the lambdas below capture them)
+  std::pair<int, int> const range = GENERATE_COPY(std::pair{0, n}, std::pair{0, n / 2}, std::pair{n / 2, n},
+                                                  std::pair{n / 3, 2 * n / 3}, std::pair{n / 3, n / 3});
+  int const rowBegin = range.first, rowEnd = range.second;
   CAPTURE(rowBegin, rowEnd);
   // the entries with neither row nor column in the range are not read (a
   // rank holds them incomplete): poison them
