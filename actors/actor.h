@@ -126,6 +126,35 @@ class Actor {
   /// assembled matrix is not positive definite).
   virtual void AddGradientAndHessian(internal::HessianAssembler& assembler,
                                      int firstContributor, bool projectHessian) const = 0;
+  // ---- own-block solves (articulated actors: an O(N) recursion over the
+  // tree instead of a dense block in the scene's matrix; docs/articulated.md) ----
+  /// True when the actor can solve its own Newton block. Its DoFs then fall
+  /// into groups (an articulated actor's joints): other contributors may add
+  /// to one group's diagonal block of the actor's DoFs, and to nothing else.
+  virtual bool CanSolveOwnBlock() const { return false; }
+  /// The group of local DoF `dof` (CanSolveOwnBlock actors).
+  virtual int GetDofGroup(int /*dof*/) const { return 0; }
+  /// Set by the stage solver before AppendContributorDofs: with it the actor
+  /// adds one contributor per group (that group's diagonal block) and keeps
+  /// the coupling between groups to itself.
+  void SetSolvesOwnBlock(bool solves) { solvesOwnBlock_ = solves; }
+  bool SolvesOwnBlock() const { return solvesOwnBlock_; }
+  /// After an assembly (SolvesOwnBlock actors): reads its groups' assembled
+  /// diagonal blocks, which hold the other contributors' terms too,
+  /// factorizes its block (with `projectHessian` made positive definite,
+  /// pivot by pivot) and overwrites those blocks in the assembled matrix
+  /// with the identity, so that the scene's solver returns −∇E on its DoFs,
+  /// which SolveOwnBlock then replaces. False when the block is not positive
+  /// definite (or not finite); with `projectHessian`, where that failure is
+  /// final, `reason` says why (without, the stage solver retries projected).
+  virtual bool FactorizeOwnBlock(internal::HessianAssembler& /*assembler*/, int /*firstContributor*/,
+                                 bool /*projectHessian*/, std::string& /*reason*/) {
+    return true;
+  }
+  /// delta ← (own block)⁻¹ rhs on the actor's DoFs (global vectors), with
+  /// the last FactorizeOwnBlock.
+  virtual void SolveOwnBlock(Span<real const> /*rhs*/, Span<real> /*delta*/) {}
+
   /// Saves the current iterate; RestoreIterate returns to it (line search).
   virtual void SaveIterate() = 0;
   virtual void RestoreIterate() = 0;
@@ -145,6 +174,7 @@ class Actor {
   ActorType type_;
   int numDofs_;
   int dofOffset_ = 0;
+  bool solvesOwnBlock_ = false;
 };
 
 }  // namespace superdex

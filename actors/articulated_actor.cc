@@ -31,7 +31,25 @@ Matrix6 SpatialStiffness(Real33 const& rotation, real translation, Real3 const& 
   k.bottomRightCorner<3, 3>() = translation * Real33::Identity();
   return k;
 }
+/// The kinematic curvature of the link poses against wrenches with sums
+/// P = Σ c fᵀ, F = Σ f, T = Σ τ, as a 6×6 operator: for a DoF a upstream of
+/// a DoF b, the Hessian term s_aᵀ C s_b (docs/articulated.md). Its angular
+/// row is (P − tr P·I − ½[T]×, −[F]×), its linear row zero.
+Matrix6 Curvature(Real33 const& p, Real3 const& f, Real3 const& tau) {
+  Matrix6 c = Matrix6::Zero();
+  c.topLeftCorner<3, 3>() = p - p.trace() * Real33::Identity() - 0.5 * Hat(tau);
+  c.topRightCorner<3, 3>() = -Hat(f);
+  return c;
+}
 }  // namespace
+
+std::string_view ToString(ArticulatedBlockSolve solve) {
+  switch (solve) {
+    case ArticulatedBlockSolve::Tree: return "Tree";
+    case ArticulatedBlockSolve::Dense: return "Dense";
+  }
+  return "Unknown";
+}
 
 std::string_view ToString(JointType type) {
   switch (type) {
@@ -155,9 +173,24 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
     return nullptr;
   }
 
+  if (params.blockSolve != ArticulatedBlockSolve::Tree && params.blockSolve != ArticulatedBlockSolve::Dense) {
+    error.Set(ErrorCode::InvalidArgument, "ArticulatedActorParams.blockSolve is not an ArticulatedBlockSolve (" +
+                                              std::to_string(static_cast<int>(params.blockSolve)) + ")");
+    return nullptr;
+  }
+
   std::unique_ptr<ArticulatedActor> actor(new ArticulatedActor(numDofs));
   ArticulatedActor& a = *actor;
   a.links_ = std::move(links);
+  a.blockSolve_ = params.blockSolve;
+  a.dofLink_.resize(numDofs);
+  for (int i = 0; i < numLinks; ++i) {
+    Link const& l = a.links_[i];
+    a.linkParent_.push_back(l.parent);
+    a.linkDofStart_.push_back(l.dofStart);
+    a.linkNumDofs_.push_back(l.numDofs);
+    for (int k = l.dofStart; k < l.dofStart + l.numDofs; ++k) a.dofLink_[k] = i;
+  }
   State& s = a.state_;
   s.joints.resize(numLinks);
   s.jointVelocity = VectorX::Zero(numDofs);
@@ -195,6 +228,11 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   a.modifiedColumn_ = VectorX::Zero(numDofs);
   a.modifiedOrder_.assign(numDofs, 0);
   a.composite_.resize(numLinks);
+  a.own_.resize(numLinks);
+  a.jointBlocks_.resize(numLinks);
+  a.localMotion_.resize(6, numDofs);
+  a.shift_.resize(numLinks);
+  a.treeSolver_.Reserve(numLinks);
   for (auto* v : {&a.wrenchForce_, &a.wrenchMoment_, &a.torqueSum_}) v->resize(numLinks);
   a.forceMoment_.resize(numLinks);
   // link poses and velocities from the joints: v_c = Σ (v_k + ω_k × c) q̇_k
@@ -468,6 +506,16 @@ void ArticulatedActor::WriteDofInverseMasses(Span<real> inverseMasses) const {
 }
 
 void ArticulatedActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
+  if (SolvesOwnBlock()) {
+    // one block per joint with DoFs (its diagonal block)
+    for (Link const& l : links_) {
+      if (l.numDofs == 0) continue;
+      DynamicArray<int> dofs(l.numDofs);
+      for (int k = 0; k < l.numDofs; ++k) dofs[k] = dofOffset_ + l.dofStart + k;
+      dofLists.push_back(std::move(dofs));
+    }
+    return;
+  }
   // one dense block over all the actor's DoFs
   DynamicArray<int> dofs(numDofs_);
   for (int k = 0; k < numDofs_; ++k) dofs[k] = dofOffset_ + k;
@@ -520,98 +568,92 @@ real ArticulatedActor::Energy(internal::OwnedContributors owned) const {
   return energy;
 }
 
-void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
-                                             int firstContributor, bool projectHessian) const {
-  if (!assembler.Evaluates(firstContributor)) return;
+void ArticulatedActor::ComputeGradientAndTreeTerms() const {
+  using internal::ArticulatedTreeSolver;
   ComputeKinematics(state_.joints, kinematics_);
   Kinematics const& k = kinematics_;
   int const numLinks = GetNumLinks();
+  // every spatial quantity of link i about its joint origin o_i (a local
+  // point: about the world origin the products of a long chain cancel
+  // digits); the DoFs' motion about it: rotations (ω; 0), translations (0; d)
+  for (int i = 0; i < numLinks; ++i) {
+    Link const& l = links_[i];
+    shift_[i] = l.parent >= 0 ? Real3(k.jointOrigin[i] - k.jointOrigin[l.parent]) : Real3::Zero();
+    for (int c = l.dofStart; c < l.dofStart + l.numDofs; ++c) {
+      bool const rotation = !k.motion.col(c).head<3>().isZero();
+      localMotion_.col(c).head<3>() = k.motion.col(c).head<3>();
+      localMotion_.col(c).tail<3>() = rotation ? Real3::Zero() : Real3(k.motion.col(c).tail<3>());
+    }
+  }
   // link wrenches: f at the centre of mass (inertia residual − m g), τ a
-  // pure torque; subtree sums of f, of the moment about the origin
-  // Σ (τ + c × f), of τ, and of c fᵀ (for the kinematic curvature)
+  // pure torque; subtree sums of f, of the moment Σ (τ + (c − o) × f), of τ,
+  // of (c − o) fᵀ, and of Y = spatial stiffness + curvature, each about the
+  // subtree root's joint origin o (shifted on the way up)
   for (int i = 0; i < numLinks; ++i) {
     Real3 f, tau;
     inertia_[i].Gradient(k.com[i], k.linkRotation[i], f, tau);
     f -= links_[i].mass * gravity_;
+    Real3 const arm = k.com[i] - k.jointOrigin[i];
     wrenchForce_[i] = f;
-    wrenchMoment_[i] = tau + k.com[i].cross(f);
+    wrenchMoment_[i] = tau + arm.cross(f);
     torqueSum_[i] = tau;
-    forceMoment_[i] = k.com[i] * f.transpose();
+    forceMoment_[i] = arm * f.transpose();
     Real33 const rotation = inertia_[i].RotationHessian(k.linkRotation[i]);
-    composite_[i] = SpatialStiffness(rotation, inertia_[i].TranslationStiffness(), k.com[i]);
+    own_[i] = SpatialStiffness(rotation, inertia_[i].TranslationStiffness(), arm) + Curvature(forceMoment_[i], f, tau);
+    composite_[i] = own_[i];
   }
   for (int i = numLinks - 1; i > 0; --i) {
     int const p = links_[i].parent;
+    Real3 const& r = shift_[i];
     wrenchForce_[p] += wrenchForce_[i];
-    wrenchMoment_[p] += wrenchMoment_[i];
+    wrenchMoment_[p] += wrenchMoment_[i] + r.cross(wrenchForce_[i]);
     torqueSum_[p] += torqueSum_[i];
-    forceMoment_[p] += forceMoment_[i];
-    composite_[p] += composite_[i];
+    forceMoment_[p] += forceMoment_[i] + r * wrenchForce_[i].transpose();
+    composite_[p] += ArticulatedTreeSolver::ShiftToParent(r, composite_[i]);
   }
   // gradient: g_k = ω_k·M_sub + v_k·F_sub (the backward pass of RNEA)
   gradient_.setZero();
   real* out = gradient_.data();
   for (int i = 0; i < numLinks; ++i)
     for (int c = links_[i].dofStart; c < links_[i].dofStart + links_[i].numDofs; ++c)
-      out[c] += k.motion.col(c).head<3>().dot(wrenchMoment_[i]) + k.motion.col(c).tail<3>().dot(wrenchForce_[i]);
+      out[c] += localMotion_.col(c).head<3>().dot(wrenchMoment_[i]) +
+                localMotion_.col(c).tail<3>().dot(wrenchForce_[i]);
 
-  // Hessian, first the composite-rigid-body part H_jk = s_jᵀ K_sub(k) s_k
-  hessian_.setZero();
+  // each joint's extra block E_c = H_cc − sym(S_cᵀ Y_c S_c) (the tree
+  // solver's jointExtras): H_cc is the composite-rigid-body part S_cᵀ K S_c
+  // plus the curvature within the joint, so E_c is that curvature less
+  // sym(S_cᵀ C S_c), C the curvature in Y. For DoF a upstream of DoF b (x
+  // moved by Exp(a) Exp(b)), ∂²x/∂a∂b = ω_a × u_b(x) and
+  // ∂²ω/∂a∂b = ½ ω_a × ω_b, summed over b's subtree, give
+  // H_ab += ω_a·(P ω_b − ω_b tr P + v_b × F) + ½ ω_a·(ω_b × T) between
+  // joints (the Curvature operator); within one spherical or free joint the
+  // rotations are exponential coordinates: the symmetric ½(ÂB̂ + B̂Â) and no
+  // torque term; a free joint's translations act before its rotations
   for (int c = 0; c < numLinks; ++c) {
     Link const& lk = links_[c];
-    if (lk.numDofs == 0) continue;
-    SpatialColumns force;  // fixed capacity: no allocation
-    force.noalias() = composite_[c] * k.motion.middleCols(lk.dofStart, lk.numDofs);
-    for (int j = c; j >= 0; j = links_[j].parent) {
-      Link const& lj = links_[j];
-      if (lj.numDofs == 0) continue;
-      hessian_.block(lj.dofStart, lk.dofStart, lj.numDofs, lk.numDofs).noalias() =
-          k.motion.middleCols(lj.dofStart, lj.numDofs).transpose() * force;
-      if (j != c)
-        hessian_.block(lk.dofStart, lj.dofStart, lk.numDofs, lj.numDofs) =
-            hessian_.block(lj.dofStart, lk.dofStart, lj.numDofs, lk.numDofs).transpose();
-    }
-  }
-  // then the curvature of the link poses against the link wrenches: for DoF
-  // a upstream of DoF b (x moved by Exp(a) Exp(b)), ∂²x/∂a∂b = ω_a × u_b(x)
-  // and ∂²ω/∂a∂b = ½ ω_a × ω_b, summed over b's subtree:
-  //   H_ab += ω_a·(P ω_b − ω_b tr P + v_b × F) + ½ ω_a·(ω_b × T)
-  // (P = Σ c fᵀ, F = Σ f, T = Σ τ); within one spherical or free joint the
-  // rotations are exponential coordinates: the symmetric ½(ÂB̂ + B̂Â) and
-  // no torque term; a free joint's translations act before its rotations
-  {
-    for (int c = 0; c < numLinks; ++c) {
-      Link const& lk = links_[c];
-      Real33 const& p = forceMoment_[c];
-      real const trace = p.trace();
-      for (int b = lk.dofStart; b < lk.dofStart + lk.numDofs; ++b) {
-        Real3 const wb = k.motion.col(b).head<3>(), vb = k.motion.col(b).tail<3>();
-        if (wb.isZero() && vb.isZero()) continue;
-        Real3 const q = p * wb - trace * wb + vb.cross(wrenchForce_[c]);
-        Real3 const rotationTerm = 0.5 * wb.cross(torqueSum_[c]);
-        // strict ancestors
-        for (int j = links_[c].parent; j >= 0; j = links_[j].parent)
-          for (int a = links_[j].dofStart; a < links_[j].dofStart + links_[j].numDofs; ++a) {
-            real const value = k.motion.col(a).head<3>().dot(q + rotationTerm);
-            hessian_(a, b) += value;
-            hessian_(b, a) += value;
-          }
-        // the same joint: a ≤ b
-        for (int a = lk.dofStart; a <= b; ++a) {
-          Real3 const wa = k.motion.col(a).head<3>(), va = k.motion.col(a).tail<3>();
-          bool const aTranslation = wa.isZero();
-          real value = 0;
-          if (a == b) {
-            value = wb.dot(q);
-          } else if (aTranslation) {
-            value = 0;  // a free joint's translation before its rotation: no coupling
-          } else {
-            Real3 const qa = p * wa - trace * wa + va.cross(wrenchForce_[c]);
-            value = 0.5 * (wa.dot(q) + wb.dot(qa));
-          }
-          hessian_(a, b) += value;
-          if (a != b) hessian_(b, a) += value;
+    int const m = lk.numDofs;
+    if (m == 0) continue;
+    SpatialColumns const s = localMotion_.middleCols(lk.dofStart, m);  // fixed capacity: no allocation
+    SpatialColumns const curved = Curvature(forceMoment_[c], wrenchForce_[c], torqueSum_[c]) * s;
+    Matrix6& block = jointBlocks_[c];
+    block.topLeftCorner(m, m).noalias() = -0.5 * s.transpose() * curved;
+    block.topLeftCorner(m, m).noalias() -= 0.5 * curved.transpose() * s;
+    Real33 const& p = forceMoment_[c];
+    real const trace = p.trace();
+    for (int b = 0; b < m; ++b) {
+      Real3 const wb = s.col(b).head<3>(), vb = s.col(b).tail<3>();
+      Real3 const q = p * wb - trace * wb + vb.cross(wrenchForce_[c]);
+      for (int a = 0; a <= b; ++a) {
+        Real3 const wa = s.col(a).head<3>(), va = s.col(a).tail<3>();
+        real value = 0;
+        if (a == b) {
+          value = wb.dot(q);
+        } else if (!wa.isZero()) {  // a free joint's translation before its rotation: no coupling
+          Real3 const qa = p * wa - trace * wa + va.cross(wrenchForce_[c]);
+          value = 0.5 * (wa.dot(q) + wb.dot(qa));
         }
+        block(a, b) += value;
+        if (a != b) block(b, a) += value;
       }
     }
   }
@@ -623,6 +665,7 @@ void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembl
     real d[6];
     JointDifference(i, state_.joints[i], stageStart_[i], d);
     real const stiffness = weight * l.armature + l.damping / h;
+    Matrix6& block = jointBlocks_[i];
     auto addRotation = [&](int first) {
       Real3 const phi(d[first], d[first + 1], d[first + 2]);
       Real33 const dPhi = RightJacobianInverse(phi);
@@ -632,11 +675,11 @@ void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembl
                       l.damping / h * d[first + a];
       Real3 const g = dPhi.transpose() * residual;
       for (int a = 0; a < 3; ++a) out[l.dofStart + first + a] += g[a];
-      hessian_.block<3, 3>(l.dofStart + first, l.dofStart + first) += stiffness * dPhi.transpose() * dPhi;
+      block.block<3, 3>(first, first) += stiffness * dPhi.transpose() * dPhi;
     };
     auto addLinear = [&](int a) {
       out[l.dofStart + a] += weight * l.armature * (d[a] - jointTarget_[l.dofStart + a]) + l.damping / h * d[a];
-      hessian_(l.dofStart + a, l.dofStart + a) += stiffness;
+      block(a, a) += stiffness;
     };
     switch (l.joint) {
       case JointType::Revolute:
@@ -649,9 +692,87 @@ void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembl
       case JointType::Fixed: break;
     }
   }
+}
+
+void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
+                                             int firstContributor, bool projectHessian) const {
+  if (!assembler.Evaluates(firstContributor)) return;
+  ComputeGradientAndTreeTerms();
+  int const numLinks = GetNumLinks();
+  if (SolvesOwnBlock()) {
+    // one contributor per joint: its gradient and diagonal block; the rest of
+    // the Hessian stays in own_ for FactorizeOwnBlock
+    int contributor = firstContributor;
+    for (int i = 0; i < numLinks; ++i) {
+      int const m = links_[i].numDofs;
+      if (m == 0) continue;
+      assembler.AddGradient(contributor, gradient_.segment(links_[i].dofStart, m));
+      assembler.AddBlock(contributor, jointBlocks_[i].topLeftCorner(m, m));
+      ++contributor;
+    }
+    return;
+  }
+  // the dense block: H_cc = sym(S_cᵀ Y_c S_c) + E_c, and H_jc = S_jᵀ Y_c S_c
+  // for j a strict ancestor of c, S_j carried to o_c (v ← v − (o_c − o_j) × ω)
+  Kinematics const& k = kinematics_;
+  hessian_.setZero();
+  for (int c = 0; c < numLinks; ++c) {
+    Link const& lk = links_[c];
+    int const m = lk.numDofs;
+    if (m == 0) continue;
+    SpatialColumns const s = localMotion_.middleCols(lk.dofStart, m);  // fixed capacity: no allocation
+    SpatialColumns force;
+    force.noalias() = composite_[c] * s;
+    auto diagonal = hessian_.block(lk.dofStart, lk.dofStart, m, m);
+    diagonal.noalias() = 0.5 * s.transpose() * force;
+    diagonal.noalias() += 0.5 * force.transpose() * s;
+    diagonal += jointBlocks_[c].topLeftCorner(m, m);
+    for (int j = lk.parent; j >= 0; j = links_[j].parent) {
+      Link const& lj = links_[j];
+      if (lj.numDofs == 0) continue;
+      SpatialColumns ancestor = localMotion_.middleCols(lj.dofStart, lj.numDofs);
+      Real3 const r = k.jointOrigin[c] - k.jointOrigin[j];
+      for (int a = 0; a < lj.numDofs; ++a)
+        ancestor.col(a).tail<3>() -= r.cross(Real3(ancestor.col(a).head<3>()));
+      hessian_.block(lj.dofStart, lk.dofStart, lj.numDofs, m).noalias() = ancestor.transpose() * force;
+      hessian_.block(lk.dofStart, lj.dofStart, m, lj.numDofs) =
+          hessian_.block(lj.dofStart, lk.dofStart, lj.numDofs, m).transpose();
+    }
+  }
   if (projectHessian) ModifyHessianToPositiveDefinite();
   assembler.AddGradient(firstContributor, gradient_);
   assembler.AddBlock(firstContributor, hessian_);
+}
+
+internal::ArticulatedTreeSolver::System ArticulatedActor::TreeSystem() const {
+  return {linkParent_, linkDofStart_, linkNumDofs_, localMotion_, own_, jointBlocks_, shift_};
+}
+
+bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, int firstContributor,
+                                         bool projectHessian, std::string& reason) {
+  // the joints' assembled diagonal blocks (the joint constraints' terms
+  // included) replace the actor's own; the scene's matrix gets the identity
+  int contributor = firstContributor;
+  for (int i = 0; i < GetNumLinks(); ++i) {
+    int const m = links_[i].numDofs;
+    if (m == 0) continue;
+    auto block = jointBlocks_[i].topLeftCorner(m, m);
+    assembler.ReadBlock(contributor, block);
+    assembler.WriteBlock(contributor, Matrix6::Identity().topLeftCorner(m, m));
+    ++contributor;
+  }
+  int failedLink = -1;
+  if (treeSolver_.Factorize(TreeSystem(), projectHessian, &failedLink)) return true;
+  // (the message only where it is final: an exact block that is not positive
+  // definite is retried projected, and a message per step would allocate)
+  if (projectHessian)
+    reason = "the articulated actor's Hessian is not positive definite (tree recursion, pivot of the joint of link " +
+           std::to_string(failedLink) + ")";
+  return false;
+}
+
+void ArticulatedActor::SolveOwnBlock(Span<real const> rhs, Span<real> delta) {
+  treeSolver_.Solve(TreeSystem(), rhs.subspan(dofOffset_, numDofs_), delta.subspan(dofOffset_, numDofs_));
 }
 
 void ArticulatedActor::ModifyHessianToPositiveDefinite() const {

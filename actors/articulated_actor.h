@@ -40,9 +40,23 @@
 // of the link poses against those wrenches (exact; it may be indefinite);
 // with `projectHessian` only the PSD part w·M(q) + armature + damping is
 // kept.
+//
+// Solving. With ArticulatedBlockSolve::Tree the actor's Newton block is not
+// formed: its Hessian has the structure H_ab = s_aᵀ Y_c s_b (a in an
+// ancestor of b's joint c, Y a subtree sum), which
+// internal::ArticulatedTreeSolver factorizes and solves in O(N) per Newton
+// iteration; the scene's matrix holds only each joint's diagonal block, where
+// the actor's joint constraints add theirs. ArticulatedBlockSolve::Dense (the
+// default for now: the tree's projected fallback still fails on long falling
+// chains) assembles the dense block into the scene's matrix (O(N²) assembly,
+// O(N³) factorization); across MPI ranks, and
+// where a constraint couples two joints or the actor with other actors, the
+// dense block is used. docs/articulated.md, "Solving on the tree".
 #pragma once
 
 #include <Eigen/Cholesky>
+
+#include <superdex/actors/articulated_tree_solver.h>
 
 #include <superdex/actors/actor.h>
 #include <superdex/actors/rigid_inertia.h>
@@ -56,6 +70,10 @@ enum class JointType { Fixed, Revolute, Prismatic, Spherical, Free };
 std::string_view ToString(JointType type);
 /// DoFs of a joint type: 0, 1, 1, 3, 6.
 int JointDofs(JointType type);
+
+/// How the actor's Newton block is solved (the file comment).
+enum class ArticulatedBlockSolve { Tree, Dense };
+std::string_view ToString(ArticulatedBlockSolve solve);
 
 struct ArticulatedLinkParams {
   int parent = -1;                      ///< earlier link, or −1 for the world (root only)
@@ -80,6 +98,10 @@ struct ArticulatedLinkParams {
 
 struct ArticulatedActorParams {
   DynamicArray<ArticulatedLinkParams> links;  ///< at least one; link 0 is the root
+  /// Tree: the O(N) recursion; Dense: the dense block in the scene's matrix.
+  /// Dense by default until the tree's projected fallback is robust on long
+  /// falling chains (docs/articulated.md, "Solving on the tree").
+  ArticulatedBlockSolve blockSolve = ArticulatedBlockSolve::Dense;
 };
 
 class ArticulatedActor final : public Actor {
@@ -98,6 +120,10 @@ class ArticulatedActor final : public Actor {
   int GetJointDofOffset(int link) const { return links_[link].dofStart; }
   int GetJointNumDofs(int link) const { return links_[link].numDofs; }
   bool IsFloatingBase() const { return links_[0].joint == JointType::Free; }
+  ArticulatedBlockSolve GetBlockSolve() const { return blockSolve_; }
+  /// True while the stage solver solves the actor by the tree recursion
+  /// (Tree requested, one process, no constraint coupling two joints).
+  bool IsSolvedOnTree() const { return SolvesOwnBlock(); }
 
   /// Link frame (origin and axes) in the world.
   Real3 GetLinkPosition(int link) const;
@@ -181,6 +207,11 @@ class ArticulatedActor final : public Actor {
   real Energy(internal::OwnedContributors owned) const override;
   void AddGradientAndHessian(internal::HessianAssembler& assembler,
                              int firstContributor, bool projectHessian) const override;
+  bool CanSolveOwnBlock() const override { return blockSolve_ == ArticulatedBlockSolve::Tree; }
+  int GetDofGroup(int dof) const override { return dofLink_[dof]; }
+  bool FactorizeOwnBlock(internal::HessianAssembler& assembler, int firstContributor, bool projectHessian,
+                         std::string& reason) override;
+  void SolveOwnBlock(Span<real const> rhs, Span<real> delta) override;
   void SaveIterate() override;
   void RestoreIterate() override;
   void ApplyIncrementFromSaved(Span<real const> delta, real alpha) override;
@@ -198,6 +229,9 @@ class ArticulatedActor final : public Actor {
 
   // definition (immutable after creation)
   DynamicArray<Link> links_;
+  ArticulatedBlockSolve blockSolve_ = ArticulatedBlockSolve::Tree;
+  DynamicArray<int> linkParent_, linkDofStart_, linkNumDofs_;  ///< links_' fields, for the tree solver
+  DynamicArray<int> dofLink_;  ///< the link whose joint holds each DoF
 
   State state_;
   // stage scratch, sized at creation
@@ -219,6 +253,20 @@ class ArticulatedActor final : public Actor {
   /// hessian_ ← Pᵀ L |D|₊ Lᵀ P from its pivoted LDLᵀ Pᵀ L D Lᵀ P (a
   /// modified Cholesky: equal where positive definite).
   void ModifyHessianToPositiveDefinite() const;
+  /// The link wrenches and spatial stiffnesses at the current iterate, about
+  /// each link's joint origin: own_ (each link's Y term) and, summed over
+  /// subtrees, composite_ (Y_c) and the wrench sums; jointBlocks_ (each
+  /// joint's E_c = H_cc − sym(S_cᵀ Y_c S_c), the joint-space terms included)
+  /// and gradient_.
+  void ComputeGradientAndTreeTerms() const;
+  internal::ArticulatedTreeSolver::System TreeSystem() const;
+  mutable DynamicArray<Eigen::Matrix<real, 6, 6>> own_, jointBlocks_;
+  /// The DoFs' motion about their joint's origin o_i, and o_i − o_parent,
+  /// of the last ComputeGradientAndTreeTerms (what treeSolver_ factorized:
+  /// the line search's energies move kinematics_, not these)
+  mutable Eigen::Matrix<real, 6, Eigen::Dynamic> localMotion_;
+  mutable DynamicArray<Real3> shift_;
+  internal::ArticulatedTreeSolver treeSolver_;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> composite_;
   mutable DynamicArray<Real3> wrenchForce_, wrenchMoment_, torqueSum_;
   mutable DynamicArray<Real33> forceMoment_;

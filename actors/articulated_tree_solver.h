@@ -3,24 +3,43 @@
 // derivation is in docs/articulated.md, "Solving on the tree").
 //
 // The DoFs are grouped by joint; joint i has numDofs[i] (0 to 6)
-// consecutive DoFs from dofStart[i], and world-frame motion columns
-// S_i = motion.middleCols(dofStart[i], numDofs[i]) (angular rows first).
-// Parents come before their children (parent[i] < i, −1 for a root). Then
-//   H_ii  is any symmetric block (jointBlocks[i], top-left numDofs × numDofs)
-//   H_ji = S_jᵀ Y_i S_i  for j a strict ancestor of i, H_ij = H_jiᵀ,
-//   H_ji = 0             for j and i on different branches,
-// with the 6×6 Y_i composite over i's subtree: Y_i = own_i + Σ_children Y_c.
+// consecutive DoFs from dofStart[i]. Parents come before their children
+// (parent[i] < i, −1 for a root). Each joint has a reference point o_i; its
+// motion columns S_i = motion.middleCols(dofStart[i], numDofs[i]) (angular
+// rows first) and the 6×6 own_i are expressed about it, and shift[i] =
+// o_i − o_parent(i). With X_i the motion transform from o_parent to o_i
+// (v ← v − shift × ω), Y_i the composite over i's subtree about o_i,
+//   Y_i = own_i + Σ_children X_cᵀ Y_c X_c,
+// and S_j taken to o_i along the path, the matrix is
+//   H_ii = sym(S_iᵀ Y_i S_i) + E_i   (E_i = jointExtras[i], symmetric)
+//   H_ji = S_jᵀ Y_i S_i         for j a strict ancestor of i, H_ij = H_jiᵀ,
+//   H_ji = 0                    for j and i on different branches.
 // Y need not be symmetric (the articulated actor's kinematic curvature is
-// not). The solve eliminates the joints from the leaves up, as the
-// articulated-body algorithm does: eliminating joint k subtracts from every
-// pair of its ancestors the 6×6 Z_k = (Yᴬ_k S_k) Dₖ⁻¹ (Yᴬ_k S_k)ᵀ, so the
-// structure is kept with the articulated Yᴬ_i = own_i + Σ_c (Yᴬ_c − Z_c)
-// and the pivot Dᵢ = H_ii − S_iᵀ (Σ over i's strict descendants of Z) S_i.
-// Back substitution runs from the roots down. Each joint costs a few 6×6
-// products and one Cholesky of at most 6×6: O(N), nothing formed densely.
+// not; sym(A) = (A + Aᵀ)/2, and S_iᵀ Z S_i below is symmetric, so the
+// pivots keep the antisymmetric part of S_iᵀ Y_i S_i out). Local reference points keep the products at the scale of the links:
+// about one far origin they cancel digits as the tree grows (a 1,500-link
+// chain about the world origin gave a non-finite step).
 //
-// Allocation: Reserve(numJoints) sizes the workspaces; Solve allocates
-// nothing.
+// The solve eliminates the joints from the leaves up, as the articulated-
+// body algorithm does: eliminating joint k subtracts
+// Z_k = (Yᴬ_k S_k) Dₖ⁻¹ (Yᴬ_k S_k)ᵀ from every pair of its ancestors, so the
+// structure is kept with the articulated Yᴬ_i = own_i + Σ_c X_cᵀ(Yᴬ_c − Z_c)X_c
+// and the pivot Dᵢ = sym(S_iᵀ Yᴬ_i S_i) + E_i (never the difference of the large
+// composite and eliminated terms). Back substitution runs from the roots
+// down. Each joint costs a few 6×6 products and one Cholesky of at most 6×6:
+// O(N), nothing formed densely.
+//
+// Factorize runs the elimination once per matrix; Solve then costs one
+// leaves-up and one roots-down pass per right-hand side. With
+// `makePositiveDefinite` each pivot Dᵢ is replaced by V max(|Λ|, floor) Vᵀ
+// from its eigendecomposition (floor 1e-10 of H's largest diagonal entry,
+// as the dense modified Cholesky's): the factors then belong to the positive definite
+// H₊ = L D₊ Lᵀ, equal to H where every pivot was positive definite, which
+// keeps the curvature's magnitude where it was not (a modified block
+// Cholesky; docs/articulated.md, "Solving on the tree").
+//
+// Allocation: Reserve(numJoints) sizes the workspaces; Factorize and Solve
+// allocate nothing.
 #pragma once
 
 #include <superdex/core/types.h>
@@ -37,24 +56,36 @@ class ArticulatedTreeSolver {
   struct System {
     Span<int const> parent, dofStart, numDofs;
     Eigen::Ref<Eigen::Matrix<real, 6, Eigen::Dynamic> const> motion;
-    Span<Matrix6 const> own;          ///< own_i of Y_i
-    Span<Matrix6 const> jointBlocks;  ///< H_ii in the top-left corner
+    Span<Matrix6 const> own;          ///< own_i of Y_i, about o_i
+    Span<Matrix6 const> jointExtras;  ///< E_i in the top-left corner
+    Span<Real3 const> shift;          ///< o_i − o_parent(i) (unused for roots)
   };
+
+  /// Xᵀ Y X for the motion transform X: v ← v − r × ω, the 6×6 about a
+  /// point taken to the point r before it (a child's term to its parent).
+  static Matrix6 ShiftToParent(Real3 const& r, Matrix6 const& y);
 
   void Reserve(int numJoints);
 
-  /// Solves H x = b. Returns false, with x unspecified, when a pivot block
-  /// Dᵢ is not positive definite (H is not: Cholesky of the pivots is
-  /// Cholesky of H by blocks); `failedJoint` then names the joint.
-  bool Solve(System const& system, Span<real const> b, Span<real> x, int* failedJoint = nullptr);
+  /// Eliminates the joints from the leaves up. Returns false when a pivot
+  /// block Dᵢ is not positive definite (H is not: Cholesky of the pivots is
+  /// Cholesky of H by blocks), `failedJoint` then naming the joint; with
+  /// `makePositiveDefinite` such pivots are modified instead (counted by
+  /// GetNumModifiedPivots) and it fails only on non-finite values.
+  bool Factorize(System const& system, bool makePositiveDefinite = false, int* failedJoint = nullptr);
+  /// x = H⁻¹ b with the last factorization; `system` is the one factorized.
+  void Solve(System const& system, Span<real const> b, Span<real> x);
+  int GetNumModifiedPivots() const { return modifiedPivots_; }
 
  private:
   using Pivot = Eigen::LLT<Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>>;
+  using Columns = Eigen::Matrix<real, 6, Eigen::Dynamic, 0, 6, 6>;
   DynamicArray<Matrix6> articulated_;  ///< Yᴬ_i
-  DynamicArray<Matrix6> eliminated_;   ///< Σ over i's strict descendants of Z
+  DynamicArray<Columns> right_;        ///< Yᴬ_i S_i
   DynamicArray<Vector6> bias_;         ///< Σ over i's strict descendants of q_k = Yᴬ_k S_k Dₖ⁻¹ b̃_k
   DynamicArray<Vector6> motionSum_;    ///< back substitution: Σ over i and its ancestors of S_j x_j
   DynamicArray<Pivot> pivots_;
+  int modifiedPivots_ = 0;
 };
 
 }  // namespace superdex::internal

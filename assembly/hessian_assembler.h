@@ -172,6 +172,25 @@ class HessianAssembler {
     }
   }
 
+  /// After FinishAssembly, in one part: the assembled values at contributor
+  /// c's entries (every contributor's terms there), as a symmetric n×n block
+  /// in its DoF-list order; WriteBlock overwrites them with h's upper
+  /// triangle (an actor that solves its own block, Actor::FactorizeOwnBlock).
+  template <class Derived>
+  void ReadBlock(int c, Eigen::MatrixBase<Derived>& h) const {
+    int const n = dofStart_[c + 1] - dofStart_[c];
+    int const* slot = slots_.data() + slotStart_[c];
+    for (int a = 0; a < n; ++a)
+      for (int b = a; b < n; ++b) h(a, b) = h(b, a) = matrix_.values[*slot++];
+  }
+  template <class Derived>
+  void WriteBlock(int c, Eigen::MatrixBase<Derived> const& h) {
+    int const n = dofStart_[c + 1] - dofStart_[c];
+    int const* slot = slots_.data() + slotStart_[c];
+    for (int a = 0; a < n; ++a)
+      for (int b = a; b < n; ++b) matrix_.values[*slot++] = h(a, b);
+  }
+
   SparseSymmetricMatrix const& GetMatrix() const { return matrix_; }
 
   /// ordered[perm[i]] = natural[i]

@@ -59,6 +59,7 @@ std::string Where(int stageIndex, int iteration) {
 bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
                           DynamicArray<Constraint*> const& constraints, OrderingMethod ordering,
                           SceneStats& stats, Error& error) {
+  ChooseOwnBlockSolves(actors, constraints);
   // count, then fill: DoF blocks and contributor DoF lists in a fixed order
   int numDofs = 0;
   DynamicArray<int> blockSizes;
@@ -82,6 +83,14 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
     return false;
   ordering_ = ordering;
   firstContributor_ = std::move(firstContributor);
+  ownBlockActors_.clear();
+  ownBlockContributors_.clear();
+  for (std::size_t a = 0; a < actors.size(); ++a)
+    if (actors[a]->SolvesOwnBlock()) {
+      ownBlockActors_.push_back(actors[a]);
+      ownBlockContributors_.push_back(firstContributor_[a]);
+    }
+  ownBlockRhs_.setZero(ownBlockActors_.empty() ? 0 : numDofs);
   constraintWorkspace_.Reserve(maxDimension, maxDofs);
   maxConstraintDimension_ = maxDimension;
   maxConstraintDofs_ = maxDofs;
@@ -115,6 +124,54 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   }
   stats.hessianNonzeros = hessianNonzeros_;
   return true;
+}
+
+void StageSolver::ChooseOwnBlockSolves(DynamicArray<Actor*> const& actors,
+                                       DynamicArray<Constraint*> const& constraints) const {
+  // in one process, an actor that can solve its own block does, unless a
+  // constraint on it reaches another actor or more than one of its groups
+  // (joints): that coupling needs the block in the scene's matrix
+  for (Actor* actor : actors) actor->SetSolvesOwnBlock(!IsDistributed() && actor->CanSolveOwnBlock());
+  for (Constraint* constraint : constraints)
+    for (int i = 0; i < constraint->GetNumActors(); ++i) {
+      Actor* actor = constraint->GetActor(i);
+      if (actor == nullptr || !actor->SolvesOwnBlock()) continue;
+      int const begin = actor->GetDofOffset(), end = begin + actor->GetNumDofs();
+      int group = -1;
+      bool local = true;
+      for (int dof : constraint->dofs_) {
+        if (dof < begin || dof >= end) {
+          local = false;
+          break;
+        }
+        int const g = actor->GetDofGroup(dof - begin);
+        if (group >= 0 && g != group) local = false;
+        group = g;
+      }
+      if (!local) actor->SetSolvesOwnBlock(false);
+    }
+}
+
+LinearSolveResult StageSolver::FactorizeOwnBlocks(bool project, SceneStats& stats) {
+  LinearSolveResult result;
+  if (ownBlockActors_.empty()) return result;
+  auto const start = Clock::now();
+  for (std::size_t a = 0; a < ownBlockActors_.size(); ++a)
+    if (!ownBlockActors_[a]->FactorizeOwnBlock(assembler_, ownBlockContributors_[a], project, result.reason)) {
+      result.status = LinearSolveStatus::NotPositiveDefinite;
+      if (project && result.reason.empty()) result.reason = "an actor's own block is not positive definite";
+      break;
+    }
+  stats.factorizationSeconds += SecondsSince(start);
+  return result;
+}
+
+void StageSolver::SolveOwnBlocks() {
+  if (ownBlockActors_.empty()) return;
+  ownBlockRhs_ = -gradient_;
+  for (Actor* actor : ownBlockActors_)
+    actor->SolveOwnBlock(Span<real const>(ownBlockRhs_.data(), ownBlockRhs_.size()),
+                         Span<real>(delta_.data(), delta_.size()));
 }
 
 void StageSolver::SetCommunicator(Communicator const& communicator) {
@@ -253,6 +310,7 @@ LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats, bool resume)
   LinearSolveResult result = resume ? solver_->Resume(rhs, solution) : solver_->Solve(rhs, solution);
   assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), orderedSolution_.size()),
                               Span<real>(delta_.data(), delta_.size()));
+  SolveOwnBlocks();
   stats.solveSeconds += SecondsSince(start);
   stats.linearIterations += result.iterations;
   ++stats.linearSolves;
@@ -305,6 +363,7 @@ bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, real toleran
   ++stats.reusedFactorSolves;
   if (result.reducedPrecision) ++stats.singlePrecisionSolves;
   assembler_.PermuteToNatural(Span<real const>(orderedSolution_.data(), n), Span<real>(delta_.data(), n));
+  SolveOwnBlocks();
   return true;
 }
 
@@ -467,6 +526,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     bool reusedLoose = false;
     bool project = newton.hessianProjection == HessianProjection::Always;
     bool forcingSet = false;
+    bool ownBlocksFailed = false;  ///< an actor's own block, not the matrix: no diagonal shift helps
     for (;;) {
       auto start = Clock::now();
       assembler_.BeginAssembly(gradient);
@@ -515,7 +575,15 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
                                        std::max(newton.factorReuseTolerance, kMaxReuseForcingTerm));
         }
       }
-      if (SolveWithReusedFactor(newton, reuseTolerance, /*resume=*/false, stats)) {
+      // actors that solve their own blocks first (their blocks in the
+      // matrix become the identity): a block that is not positive definite
+      // sends the iteration to the projected retry like the matrix would
+      LinearSolveResult ownBlocks = FactorizeOwnBlocks(project, stats);
+      ownBlocksFailed = !ownBlocks.Ok();
+      if (ownBlocksFailed) {
+        result = std::move(ownBlocks);
+        reusedLoose = false;
+      } else if (SolveWithReusedFactor(newton, reuseTolerance, /*resume=*/false, stats)) {
         result = LinearSolveResult{};
         reusedLoose = reuseTolerance > newton.factorReuseTolerance;
       } else {
@@ -535,7 +603,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     // rank-one updates at a condition number near 1e13). Shift its diagonal
     // by 1e-8 |Hⱼⱼ|, then 100× more, up to 1e-2, before failing: a Levenberg
     // step, still a descent direction; the minimizer is unchanged.
-    for (real shift = 1e-8; project && shift <= 1e-2 &&
+    for (real shift = 1e-8; project && !ownBlocksFailed && shift <= 1e-2 &&
                             result.status == LinearSolveStatus::NotPositiveDefinite;
          shift *= 100) {
       assembler_.ShiftDiagonal(shift);

@@ -67,6 +67,14 @@ class StageSolver {
 
  private:
   void ReserveThreadWorkspaces();
+  /// Actor::SetSolvesOwnBlock for each actor (before its contributor lists).
+  void ChooseOwnBlockSolves(DynamicArray<Actor*> const& actors,
+                            DynamicArray<Constraint*> const& constraints) const;
+  /// Actor::FactorizeOwnBlock for those actors, after an assembly (timed as
+  /// factorization in `stats`); NotPositiveDefinite when one fails.
+  LinearSolveResult FactorizeOwnBlocks(bool project, SceneStats& stats);
+  /// Their parts of delta_ from −gradient_, after the matrix's solve.
+  void SolveOwnBlocks();
   /// Factorizes the assembled matrix (counted and timed in `stats`).
   LinearSolveResult FactorizeMatrix(SceneStats& stats);
   /// Across ranks: every rank's owned entries of gradient_ to every rank.
@@ -119,6 +127,9 @@ class StageSolver {
   DynamicArray<ConstraintWorkspace> threadWorkspaces_;  ///< one per assembly thread
   int maxConstraintDimension_ = 1, maxConstraintDofs_ = 1;
   DynamicArray<int> firstContributor_;  ///< per actor, then per constraint
+  DynamicArray<Actor*> ownBlockActors_;  ///< the actors that solve their own blocks
+  DynamicArray<int> ownBlockContributors_;  ///< and their first contributors
+  VectorX ownBlockRhs_;  ///< −∇E for their solves (natural order)
   VectorX gradient_, delta_, orderedRhs_, orderedSolution_;
   VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction
   VectorX dofLengthScales_;  ///< ℓⱼ per DoF (Actor::WriteDofLengthScales)

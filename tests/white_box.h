@@ -102,6 +102,12 @@ struct ActorTestAccess {
   }
   static void EndStage(Actor& a) { a.EndStage(); }
   static void WriteRigidBodyModes(Actor const& a, Eigen::Ref<MatrixX> modes) { a.WriteRigidBodyModes(modes); }
+  static void SetSolvesOwnBlock(Actor& a, bool solves) { a.SetSolvesOwnBlock(solves); }
+  static bool FactorizeOwnBlock(Actor& a, HessianAssembler& assembler, int firstContributor, bool projectHessian,
+                                std::string& reason) {
+    return a.FactorizeOwnBlock(assembler, firstContributor, projectHessian, reason);
+  }
+  static void SolveOwnBlock(Actor& a, Span<real const> rhs, Span<real> delta) { a.SolveOwnBlock(rhs, delta); }
 };
 
 }  // namespace superdex::internal

@@ -11,6 +11,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <numbers>
+#include <random>
 
 using namespace superdex;
 using namespace superdex::test;
@@ -160,4 +161,113 @@ TEST_CASE("articulated: at the stage start the projected Hessian is w M(q) from 
   REQUIRE((hessian - w * mass).lpNorm<Eigen::Infinity>() <= 1e-10 * w * mass.lpNorm<Eigen::Infinity>());
   REQUIRE((mass - mass.transpose()).lpNorm<Eigen::Infinity>() <= 1e-14 * mass.lpNorm<Eigen::Infinity>());
   REQUIRE(Eigen::SelfAdjointEigenSolver<MatrixX>(mass).eigenvalues().minCoeff() > 0);
+}
+
+namespace {
+
+/// A random tree of `numLinks` links: shape 0 a chain, 1 random parents; the
+/// root free (floating) or revolute, the others revolute, prismatic,
+/// spherical or fixed, at random poses and velocities.
+ArticulatedActorParams RandomTree(int numLinks, int shape, bool floating, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<real> uniform(-1, 1);
+  ArticulatedActorParams p;
+  JointType const types[] = {JointType::Revolute, JointType::Prismatic, JointType::Spherical, JointType::Fixed};
+  for (int i = 0; i < numLinks; ++i) {
+    int const parent = i == 0 ? -1 : shape == 0 ? i - 1 : static_cast<int>(random() % static_cast<unsigned>(i));
+    JointType const joint = i == 0 ? (floating ? JointType::Free : JointType::Revolute) : types[random() % 4];
+    DynamicArray<real> position, velocity;
+    for (int k = 0; k < JointDofs(joint); ++k) {
+      position.push_back(0.8 * uniform(random));
+      velocity.push_back(uniform(random));
+    }
+    ArticulatedLinkParams l = Link(parent, joint, Real3(0.3, 0.1 * uniform(random), 0.1 * uniform(random)),
+                                   std::move(position), std::move(velocity));
+    l.axis = Real3(uniform(random), uniform(random), 1);
+    l.mass = 0.5 + 0.5 * (1 + uniform(random));
+    l.armature = i % 3 == 0 ? 0.02 : 0;
+    l.damping = i % 4 == 1 ? 0.5 : 0;
+    p.links.push_back(std::move(l));
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("the tree recursion solves the actor's Newton system as the dense block does",
+          "[actors][articulated][tree]") {
+  int const numLinks = GENERATE(1, 3, 12, 30);
+  int const shape = GENERATE(0, 1);
+  bool const floating = GENERATE(false, true);
+  real const h = GENERATE(0.005, 0.2);
+  unsigned const seed = GENERATE(1u, 2u);
+  CAPTURE(numLinks, shape, floating, h, seed);
+  auto scene = MakeScene();
+  Error error;
+  ArticulatedActor* actor = scene->CreateArticulatedActor(RandomTree(numLinks, shape, floating, seed), error);
+  INFO(error.ToString());
+  REQUIRE(actor);
+  int const n = actor->GetNumDofs();
+  ActorTestAccess::BeginStage(*actor, internal::MakeStage(IntegratorType::BackwardEuler, h, false), Real3(0, -9.81, 0));
+  DynamicArray<real> offset(n);
+  for (int k = 0; k < n; ++k) offset[k] = 0.1 * std::sin(1.7 * k + seed);
+  ActorTestAccess::SaveIterate(*actor);
+  ActorTestAccess::ApplyIncrementFromSaved(*actor, offset, 1);
+
+  // the dense block (exact, and its modified Cholesky)
+  ActorTestAccess::SetSolvesOwnBlock(*actor, false);
+  ActorDerivatives const dense = AssembleActor(*actor, false);
+  MatrixX const projected = AssembleActor(*actor, true).hessian;
+  VectorX const rhs = -dense.gradient;
+  real const scale = dense.hessian.lpNorm<Eigen::Infinity>();
+  real const smallest = Eigen::SelfAdjointEigenSolver<MatrixX>(dense.hessian).eigenvalues().minCoeff();
+  CAPTURE(n, scale, smallest);
+
+  // the tree: one contributor per joint, the rest kept by the actor
+  ActorTestAccess::SetSolvesOwnBlock(*actor, true);
+  DynamicArray<DynamicArray<int>> contributors;
+  DynamicArray<int> blocks;
+  ActorTestAccess::AppendContributorDofs(*actor, contributors);
+  ActorTestAccess::AppendDofBlockSizes(*actor, blocks);
+  int numJointsWithDofs = 0;
+  for (int i = 0; i < actor->GetNumLinks(); ++i) numJointsWithDofs += actor->GetJointNumDofs(i) > 0;
+  REQUIRE(static_cast<int>(contributors.size()) == numJointsWithDofs);
+  internal::HessianAssembler assembler;
+  REQUIRE(assembler.Analyze(n, blocks, contributors, OrderingMethod::Natural, error));
+  // the assembled matrix is block-diagonal by joint: n(n+1)/2 entries at most per joint
+  REQUIRE(assembler.GetMatrix().values.size() <= static_cast<std::size_t>(6 * n));
+  auto solveOnTree = [&](bool project, VectorX& x) {
+    DynamicArray<real> gradient(n, 0);
+    assembler.ZeroValues();
+    ActorTestAccess::AddGradientAndHessian(*actor, gradient, assembler, 0, project);
+    // the gradient is the dense one, term for term
+    CHECK((Eigen::Map<VectorX const>(gradient.data(), n) - dense.gradient).lpNorm<Eigen::Infinity>() <=
+          1e-14 * dense.gradient.lpNorm<Eigen::Infinity>());
+    std::string reason;
+    if (!ActorTestAccess::FactorizeOwnBlock(*actor, assembler, 0, project, reason)) return false;
+    // the joints' blocks in the scene's matrix are now the identity
+    CHECK(DenseNaturalHessian(assembler).isIdentity(0));
+    x = VectorX::Constant(n, 99.0);
+    ActorTestAccess::SolveOwnBlock(*actor, Span<real const>(rhs.data(), n), Span<real>(x.data(), n));
+    return true;
+  };
+  VectorX x(n);
+  if (smallest > 1e-8 * scale) {
+    // positive definite: the dense Cholesky's solution within 1e-10
+    VectorX const expected = Eigen::LLT<MatrixX>(dense.hessian).solve(rhs);
+    REQUIRE(solveOnTree(false, x));
+    CHECK((x - expected).norm() <= 1e-10 * expected.norm());
+    CHECK((dense.hessian * x - rhs).norm() <= 1e-10 * scale * expected.norm());
+  } else if (smallest < -1e-8 * scale) {
+    // indefinite: block Cholesky fails, as the scene's direct solver would
+    CHECK_FALSE(solveOnTree(false, x));
+  }
+  // the modified factorization: a descent direction, and the exact step
+  // where the block is positive definite, as the dense modified Cholesky
+  REQUIRE(solveOnTree(true, x));
+  CHECK(dense.gradient.dot(x) < 0);
+  if (smallest > 1e-8 * scale) {
+    VectorX const expected = Eigen::LLT<MatrixX>(projected).solve(rhs);
+    CHECK((x - expected).norm() <= 1e-9 * expected.norm());
+  }
 }

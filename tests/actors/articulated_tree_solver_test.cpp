@@ -18,14 +18,18 @@ namespace {
 
 struct RandomTree {
   DynamicArray<int> parent, dofStart, numDofs;
-  Eigen::Matrix<real, 6, Eigen::Dynamic> motion;
-  DynamicArray<Matrix6> own, jointBlocks;
+  // about one origin (what Dense forms H from) and about each joint's point
+  Eigen::Matrix<real, 6, Eigen::Dynamic> motion, localMotion;
+  DynamicArray<Matrix6> own, localOwn, jointExtras;
+  DynamicArray<Real3> point, shift;
   int n = 0;
 
-  ArticulatedTreeSolver::System View() const { return {parent, dofStart, numDofs, motion, own, jointBlocks}; }
+  ArticulatedTreeSolver::System View() const {
+    return {parent, dofStart, numDofs, localMotion, localOwn, jointExtras, shift};
+  }
 
   /// H formed entry by entry from the definition (the file comment of
-  /// articulated_tree_solver.h)
+  /// articulated_tree_solver.h), about the one origin
   MatrixX Dense() const {
     int const numJoints = static_cast<int>(parent.size());
     DynamicArray<Matrix6> composite(own);
@@ -36,7 +40,9 @@ struct RandomTree {
       int const m = numDofs[i];
       if (m == 0) continue;
       auto const si = motion.middleCols(dofStart[i], m);
-      h.block(dofStart[i], dofStart[i], m, m) = jointBlocks[i].topLeftCorner(m, m);
+      MatrixX const diagonal = si.transpose() * composite[i] * si;
+      h.block(dofStart[i], dofStart[i], m, m) =
+          0.5 * (diagonal + diagonal.transpose()) + jointExtras[i].topLeftCorner(m, m);
       for (int j = parent[i]; j >= 0; j = parent[j]) {
         if (numDofs[j] == 0) continue;
         auto const sj = motion.middleCols(dofStart[j], numDofs[j]);
@@ -46,6 +52,20 @@ struct RandomTree {
       }
     }
     return h;
+  }
+
+  /// The local quantities from the ones about the origin: motion about
+  /// o_i (v − o_i × ω) and own_i = X(−o_i)ᵀ own X(−o_i)
+  void MakeLocal() {
+    localMotion = motion;
+    localOwn = own;
+    shift.assign(parent.size(), Real3::Zero());
+    for (std::size_t i = 0; i < parent.size(); ++i) {
+      for (int c = dofStart[i]; c < dofStart[i] + numDofs[i]; ++c)
+        localMotion.col(c).tail<3>() -= point[i].cross(Real3(motion.col(c).head<3>()));
+      localOwn[i] = ArticulatedTreeSolver::ShiftToParent(-point[i], own[i]);
+      if (parent[i] >= 0) shift[i] = point[i] - point[parent[i]];
+    }
   }
 };
 
@@ -80,12 +100,16 @@ RandomTree MakeTree(int numJoints, int shape, unsigned seed, real smallest = 1) 
     Matrix6 a;
     for (int r = 0; r < 6; ++r)
       for (int c = 0; c < 6; ++c) a(r, c) = uniform(random);
-    t.jointBlocks.push_back(a * a.transpose());
+    t.jointExtras.push_back(a * a.transpose());
+    // reference points far from the origin, as a long chain's are
+    t.point.push_back(Real3(uniform(random), uniform(random), uniform(random)) * 30.0);
   }
   // shift the joint blocks by what makes the smallest eigenvalue `smallest`
-  if (t.n == 0) return t;  // joints without DoFs only: nothing to solve
-  real const lowest = Eigen::SelfAdjointEigenSolver<MatrixX>(t.Dense()).eigenvalues().minCoeff();
-  for (auto& block : t.jointBlocks) block += (smallest - lowest) * Matrix6::Identity();
+  if (t.n > 0) {  // (joints without DoFs only: nothing to solve)
+    real const lowest = Eigen::SelfAdjointEigenSolver<MatrixX>(t.Dense()).eigenvalues().minCoeff();
+    for (auto& block : t.jointExtras) block += (smallest - lowest) * Matrix6::Identity();
+  }
+  t.MakeLocal();
   return t;
 }
 
@@ -110,7 +134,8 @@ TEST_CASE("the tree solve equals a dense Cholesky solve on random trees", "[acto
   ArticulatedTreeSolver solver;
   solver.Reserve(numJoints);
   VectorX x = VectorX::Constant(t.n, 99.0);
-  REQUIRE(solver.Solve(t.View(), Span<real const>(b.data(), t.n), Span<real>(x.data(), t.n)));
+  REQUIRE(solver.Factorize(t.View()));
+  solver.Solve(t.View(), Span<real const>(b.data(), t.n), Span<real>(x.data(), t.n));
   CAPTURE((x - expected).norm(), expected.norm());
   CHECK((x - expected).norm() <= 1e-10 * expected.norm());
   // and the residual against H, independently of the dense solve
@@ -126,9 +151,40 @@ TEST_CASE("the tree solve reports a matrix that is not positive definite", "[act
   ArticulatedTreeSolver solver;
   VectorX b = VectorX::Ones(indefinite.n), x(indefinite.n);
   int failedJoint = -1;
-  CHECK_FALSE(solver.Solve(indefinite.View(), Span<real const>(b.data(), b.size()),
-                           Span<real>(x.data(), x.size()), &failedJoint));
+  CHECK_FALSE(solver.Factorize(indefinite.View(), false, &failedJoint));
   CHECK(failedJoint >= 0);
   CHECK(failedJoint < 12);
-  CHECK(solver.Solve(definite.View(), Span<real const>(b.data(), b.size()), Span<real>(x.data(), x.size())));
+  CHECK(solver.Factorize(definite.View()));
+}
+
+TEST_CASE("the modified tree factorization is positive definite, and H itself where H is",
+          "[actors][articulated][tree]") {
+  int const shape = GENERATE(0, 1, 2);
+  CAPTURE(shape);
+  ArticulatedTreeSolver solver;
+  // positive definite: nothing modified, the same solution as unmodified
+  RandomTree const definite = MakeTree(15, shape, 11, 1e-2);
+  int const n = definite.n;
+  VectorX b(n), plain(n), modified(n);
+  for (int i = 0; i < n; ++i) b[i] = std::cos(0.5 + 2 * i);
+  REQUIRE(solver.Factorize(definite.View()));
+  solver.Solve(definite.View(), Span<real const>(b.data(), n), Span<real>(plain.data(), n));
+  REQUIRE(solver.Factorize(definite.View(), true));
+  CHECK(solver.GetNumModifiedPivots() == 0);
+  solver.Solve(definite.View(), Span<real const>(b.data(), n), Span<real>(modified.data(), n));
+  CHECK((plain - modified).norm() == 0);
+  // indefinite: pivots modified; H₊⁻¹, formed column by column, is
+  // symmetric positive definite, so every step it gives descends
+  RandomTree const indefinite = MakeTree(15, shape, 11, -3);
+  int const m = indefinite.n;
+  REQUIRE(solver.Factorize(indefinite.View(), true));
+  CHECK(solver.GetNumModifiedPivots() > 0);
+  MatrixX inverse(m, m);
+  for (int j = 0; j < m; ++j) {
+    VectorX const e = VectorX::Unit(m, j);
+    solver.Solve(indefinite.View(), Span<real const>(e.data(), m), Span<real>(inverse.col(j).data(), m));
+  }
+  CHECK((inverse - inverse.transpose()).norm() <= 1e-10 * inverse.norm());
+  MatrixX const symmetric = 0.5 * (inverse + inverse.transpose());
+  CHECK(Eigen::SelfAdjointEigenSolver<MatrixX>(symmetric).eigenvalues().minCoeff() > 0);
 }

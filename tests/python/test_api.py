@@ -35,7 +35,7 @@ EXPECTED = {
                     "get_twist_velocity get_twist_inertia get_total_mass get_rest_length get_material_frame "
                     "get_material_frame_jacobian get_strain get_rest_strain get_stiffness get_kinetic_energy "
                     "get_elastic_energy",
-    mochi.ArticulatedActor: "get_num_links get_joint_type get_parent get_joint_dof_offset get_joint_num_dofs "
+    mochi.ArticulatedActor: "get_num_links get_block_solve is_solved_on_tree get_joint_type get_parent get_joint_dof_offset get_joint_num_dofs "
                             "is_floating_base get_link_position get_link_rotation get_link_center_of_mass "
                             "get_link_linear_velocity get_link_angular_velocity get_link_mass "
                             "get_joint_positions get_joint_velocities get_joint_rotation get_joint_coordinate "
@@ -66,7 +66,7 @@ MODULE = ("Error ErrorCode ActorHandle ConstraintHandle hat exp exp_matrix log l
           "available_pcg_preconditioners available_linear_solvers resolve_linear_solver_type "
           "DENSE_SOLVER_MAX_SIZE LinearSolveStatus LinearSolveResult SparseSymmetricMatrix create_linear_solver "
           "OrderingMethod HessianProjection NewtonParams SubstepParams SceneParams SceneStats Communicator ActorType "
-          "JointType "
+          "JointType ArticulatedBlockSolve "
           "joint_dofs "
           "TetMaterialModel RigidActorParams DeformableActorParams RodActorParams ArticulatedLinkParams "
           "ArticulatedActorParams RodStiffness TetMesh TriangleMesh make_tet_box make_triangle_grid make_hinges "
@@ -97,6 +97,7 @@ def test_every_enum_value_is_bound():
         "None_", "InvalidArgument", "InvalidHandle", "NotSupported", "InvalidState", "NewtonFailed",
         "LinearSolverFailed", "NonFiniteState", "BackendError"]
     assert list(mochi.JointType.__members__) == ["Fixed", "Revolute", "Prismatic", "Spherical", "Free"]
+    assert list(mochi.ArticulatedBlockSolve.__members__) == ["Tree", "Dense"]
     assert list(mochi.ActorType.__members__) == ["Rigid", "Deformable", "Rod", "Articulated"]
     assert list(mochi.IntegratorType.__members__) == ["BackwardEuler", "Bdf2"]
     assert list(mochi.LinearSolverType.__members__) == ["Auto", "Cholmod", "PetscPcg", "Dense", "PetscMumps"]

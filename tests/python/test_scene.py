@@ -245,7 +245,8 @@ def test_articulated_pendulum_mass_matrix_and_motion():
     scene = mochi.Scene.create()
     link = mochi.ArticulatedLinkParams(parent=-1, joint=mochi.JointType.Revolute, axis=[0, 0, 1], mass=m,
                                        inertia=[1e-4, izz, izz], center_of_mass=[length / 2, 0, 0])
-    arm = scene.create_articulated_actor(mochi.ArticulatedActorParams(links=[link]))
+    arm = scene.create_articulated_actor(
+        mochi.ArticulatedActorParams(links=[link], block_solve=mochi.ArticulatedBlockSolve.Tree))
     assert arm.get_num_links() == 1 and arm.get_num_dofs() == 1 and not arm.is_floating_base()
     assert arm.get_joint_type(0) == mochi.JointType.Revolute and mochi.joint_dofs(mochi.JointType.Free) == 6
     # M = I_zz + m (L/2)² = m L²/3 (parallel axis), to round-off
@@ -265,6 +266,15 @@ def test_articulated_pendulum_mass_matrix_and_motion():
     assert arm.get_joint_velocities().shape == (1,)
     com = arm.get_link_center_of_mass(0)
     np.testing.assert_allclose(com, [length / 2 * math.cos(theta), length / 2 * math.sin(theta), 0], atol=1e-12)
+    # solved by the tree recursion; the dense block (the default) steps the same motion
+    assert arm.get_block_solve() == mochi.ArticulatedBlockSolve.Tree and arm.is_solved_on_tree()
+    dense_scene = mochi.Scene.create()
+    dense = dense_scene.create_articulated_actor(mochi.ArticulatedActorParams(links=[link]))
+    assert dense.get_block_solve() == mochi.ArticulatedBlockSolve.Dense
+    for _ in range(100):
+        dense_scene.step(1e-3)
+    assert not dense.is_solved_on_tree()
+    assert dense.get_joint_positions()[0] == pytest.approx(theta, abs=1e-12)
 
 
 def test_articulated_targets_and_ranges_drive_a_spherical_joint():

@@ -149,17 +149,26 @@ TEST_CASE("rod steps after the first allocate nothing", "[scene][allocation][rod
 }
 
 TEST_CASE("articulated steps after the first allocate nothing", "[scene][allocation][articulated]") {
-  // a 40-link spherical chain (120 DoFs, one dense block): kinematics,
-  // composite inertias and the dense Hessian fill. Always-projected Hessians:
-  // with exact ones this falling chain's first Newton iteration of every step
-  // is indefinite, and CHOLMOD's NotPositiveDefinite result allocates its
-  // message (2 strings) before the projected retry — the failure path, not
-  // covered here (docs/articulated.md)
+  // a 40-link spherical chain (120 DoFs): kinematics, composite inertias,
+  // and the tree recursion's factorization and solves, or the dense block's
+  // fill. The dense block with always-projected Hessians only: with exact
+  // ones this falling chain's first Newton iteration of every step is
+  // indefinite, and CHOLMOD's NotPositiveDefinite result allocates its
+  // message (2 strings) before the projected retry (docs/articulated.md);
+  // the tree's failed factorization allocates nothing, so it runs both ways
+  auto const choice =
+      GENERATE(std::make_pair(ArticulatedBlockSolve::Tree, HessianProjection::WhenIndefinite),
+               std::make_pair(ArticulatedBlockSolve::Tree, HessianProjection::Always),
+               std::make_pair(ArticulatedBlockSolve::Dense, HessianProjection::Always));
+  ArticulatedBlockSolve const blockSolve = choice.first;
+  HessianProjection const projection = choice.second;
+  CAPTURE(ToString(blockSolve), static_cast<int>(projection));
   SceneParams params;
   params.integrator = IntegratorType::Bdf2;
-  params.newton.hessianProjection = HessianProjection::Always;
+  params.newton.hessianProjection = projection;
   auto scene = MakeScene(params);
   ArticulatedActorParams chain;
+  chain.blockSolve = blockSolve;
   for (int i = 0; i < 40; ++i) {
     ArticulatedLinkParams link;
     link.parent = i - 1;
@@ -182,7 +191,10 @@ TEST_CASE("articulated steps after the first allocate nothing", "[scene][allocat
   REQUIRE(c->RegisterQuery(QueryType::ConstraintForce, error));
   StepOk(*scene, 1e-2, 2);
   REQUIRE(scene->GetStats().linearSolver.find("CHOLMOD") != std::string::npos);
+  REQUIRE(actor->IsSolvedOnTree() == (blockSolve == ArticulatedBlockSolve::Tree));
   RequireStepsAllocateNothing(*scene, 1e-2, 10);
+  // the exact run did fall back to the modified tree factorization
+  if (projection == HessianProjection::WhenIndefinite) REQUIRE(scene->GetStats().projectionFallbacks > 0);
 }
 
 TEST_CASE("steps with the near-rigid cap allocate nothing", "[scene][allocation][near-rigid]") {

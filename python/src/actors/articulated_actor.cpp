@@ -13,6 +13,11 @@ void DefineArticulatedActor(py::module_& m) {
       .value("Free", JointType::Free,
              "6 DoFs: translation p, then rotation (a free root is a floating base)");
   m.def("joint_dofs", &JointDofs, py::arg("type"), "DoFs of a joint type: 0, 1, 1, 3, 6.");
+  py::enum_<ArticulatedBlockSolve>(m, "ArticulatedBlockSolve", "How an articulated actor's Newton block is solved.")
+      .value("Tree", ArticulatedBlockSolve::Tree,
+             "O(N) recursion over the tree (dense in the scene's matrix across MPI ranks or where a "
+             "constraint couples two joints)")
+      .value("Dense", ArticulatedBlockSolve::Dense, "the dense block in the scene's matrix: O(N^2) assembly, O(N^3) factorization (default)");
 
   using L = ArticulatedLinkParams;
   ParamsClass<L>(m, "ArticulatedLinkParams",
@@ -43,7 +48,8 @@ void DefineArticulatedActor(py::module_& m) {
       m, "ArticulatedActorParams",
       "A tree of links (Scene.create_articulated_actor); link 0 is the root. `links` reads as a "
       "list of copies: assign a whole list.")
-      .Field("links", &P::links, "list of ArticulatedLinkParams, at least one");
+      .Field("links", &P::links, "list of ArticulatedLinkParams, at least one")
+      .Field("block_solve", &P::blockSolve, "ArticulatedBlockSolve, default Dense");
 
   using Ref = ArticulatedActorRef;
   using A = ArticulatedActor;
@@ -53,6 +59,9 @@ void DefineArticulatedActor(py::module_& m) {
                             "link order. Link indices are checked: out of range raises "
                             "mochi.Error(InvalidArgument).")
       .def("get_num_links", Forward<Ref>(&A::GetNumLinks))
+      .def("get_block_solve", Forward<Ref>(&A::GetBlockSolve))
+      .def("is_solved_on_tree", Forward<Ref>(&A::IsSolvedOnTree),
+           "True while the stage solver solves the actor by the tree recursion (after a step).")
       .def("get_joint_type", ForwardIndexed<Ref>(&A::GetJointType, links, "link"), py::arg("link"))
       .def("get_parent", ForwardIndexed<Ref>(&A::GetParent, links, "link"), py::arg("link"),
            "The parent link, -1 for the world.")
