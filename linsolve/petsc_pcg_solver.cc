@@ -560,6 +560,29 @@ LinearSolveResult PetscPcgSolver::DoAnalyze(SparseSymmetricMatrix const& a) {
 LinearSolveResult PetscPcgSolver::DoFactorize(SparseSymmetricMatrix const& a) {
   Impl& impl = *impl_;
   bool const distributed = impl.IsDistributed();
+  // a positive definite matrix has a positive diagonal: a zero, negative or
+  // missing diagonal entry is reported before PETSc sees the matrix. (GAMG
+  // set up on a 1×1 zero matrix without a failed reason, then KSPSolve
+  // failed with "Arguments are incompatible", and destroying that KSP read
+  // freed memory: tests/fuzz/corpus/scene_api/gamg-zero-diagonal.bin)
+  {
+    int const begin = distributed ? impl.distribution.rowBegin : 0;
+    int const end = distributed ? impl.distribution.rowEnd : a.size;
+    LinearSolveResult diagonal;
+    for (int j = begin; j < end && diagonal.Ok(); ++j) {
+      real value = 0;
+      for (int k = a.colStart[j + 1] - 1; k >= a.colStart[j] && a.rowIndex[k] >= j; --k)
+        if (a.rowIndex[k] == j) value = a.values[k];
+      if (!(value > 0)) {
+        diagonal = SolveFailure(LinearSolveStatus::NotPositiveDefinite,
+                                "column " + std::to_string(j) + ": diagonal entry " + Format(value) +
+                                    ", not positive (the matrix is not positive definite)");
+        diagonal.failingColumn = j;
+      }
+    }
+    if (distributed) diagonal = AgreeOnResult(impl.distribution.communicator, diagonal);
+    if (!diagonal.Ok()) return diagonal;
+  }
   if (distributed) {
     // the owned rows' values in place (PetscDistributedMatrix::SetValues)
     if (LinearSolveResult set = impl.distributed.SetValues(a); !set.Ok()) return set;

@@ -260,6 +260,7 @@ class Driver {
           std::fprintf(stderr, "  stepping by %g\n", dt);
         }
         ok = scene.Step(dt, error);
+        if (Trace() && !ok) std::fprintf(stderr, "  %s\n", error.ToString().c_str());
         break;
       }
       case 12: {

@@ -63,10 +63,10 @@ TEST_CASE("PCG reports non-convergence with PETSc's reason", "[linsolve][pcg]") 
     REQUIRE(result.relativeResidual < 1);
   }
   SECTION("indefinite matrix") {
-    // a negative diagonal entry in a diagonally dominant matrix: the Jacobi
-    // preconditioner is indefinite, which CG detects
+    // a positive diagonal (3) but eigenvalues in (−3, 9): CG meets negative
+    // curvature (a non-positive diagonal is refused before CG, by column)
     auto solver = MakePcg(WithPreconditioner(PcgPreconditioner::Jacobi));
-    SparseSymmetricMatrix const indefinite = test::WithDiagonal(a, 17, -10);
+    SparseSymmetricMatrix const indefinite = Laplacian3d(10, -3);
     REQUIRE(solver->Analyze(indefinite).Ok());
     LinearSolveResult result = solver->Factorize(indefinite);
     if (result.Ok()) result = solver->Solve(View(b), View(x));
@@ -238,10 +238,35 @@ TEST_CASE("ICC's positive-definite shift: Kershaw's matrix, where ICC(0) breaks 
   }
 }
 
-TEST_CASE("ICC and block Jacobi refuse a non-positive diagonal, naming its column",
+TEST_CASE("Every preconditioner refuses a non-positive diagonal, naming its column",
           "[linsolve][pcg][icc]") {
+  // checked before PETSc sees the matrix: GAMG set up on a 1×1 zero matrix
+  // without a failed reason, its KSPSolve then failed, and destroying the
+  // solver read freed memory (fuzz input scene_api/gamg-zero-diagonal.bin)
+  SparseSymmetricMatrix zero;
+  zero.size = 1;
+  zero.colStart = {0, 1};
+  zero.rowIndex = {0};
+  zero.values = {0};
+  for (PcgPreconditioner preconditioner :
+       {PcgPreconditioner::Gamg, PcgPreconditioner::Jacobi, PcgPreconditioner::None}) {
+    auto solver = MakePcg(WithPreconditioner(preconditioner));
+    REQUIRE(solver->Analyze(zero).Ok());
+    LinearSolveResult const factorized = solver->Factorize(zero);
+    CAPTURE(ToString(preconditioner), factorized.reason);
+    CHECK(factorized.status == LinearSolveStatus::NotPositiveDefinite);
+    CHECK(Contains(factorized.reason, "column 0"));
+    zero.values = {2};  // the same solver solves a good one afterwards
+    REQUIRE(solver->Factorize(zero).Ok());
+    real x = 0, b = 1;
+    CHECK(solver->Solve(Span<real const>(&b, 1), Span<real>(&x, 1)).Ok());
+    CHECK(x == Approx(0.5));
+    zero.values = {0};
+  }
   SparseSymmetricMatrix const a = test::WithDiagonal(Laplacian2d(6, 6, 0.1), 17, 0);
-  for (PcgPreconditioner preconditioner : {PcgPreconditioner::Icc, PcgPreconditioner::BlockJacobi}) {
+  for (PcgPreconditioner preconditioner :
+       {PcgPreconditioner::Icc, PcgPreconditioner::BlockJacobi, PcgPreconditioner::Gamg,
+        PcgPreconditioner::Jacobi, PcgPreconditioner::PointBlockJacobi, PcgPreconditioner::None}) {
     auto solver = MakePcg(WithPreconditioner(preconditioner));
     REQUIRE(solver->Analyze(a).Ok());
     LinearSolveResult const factorized = solver->Factorize(a);
