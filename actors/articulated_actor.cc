@@ -229,6 +229,7 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   a.modifiedOrder_.assign(numDofs, 0);
   a.composite_.resize(numLinks);
   a.own_.resize(numLinks);
+  a.linkMetric_.resize(numLinks);
   a.jointBlocks_.resize(numLinks);
   a.localMotion_.resize(6, numDofs);
   a.shift_.resize(numLinks);
@@ -745,7 +746,7 @@ void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembl
 }
 
 internal::ArticulatedTreeSolver::System ArticulatedActor::TreeSystem() const {
-  return {linkParent_, linkDofStart_, linkNumDofs_, localMotion_, own_, jointBlocks_, shift_};
+  return {linkParent_, linkDofStart_, linkNumDofs_, localMotion_, own_, jointBlocks_, shift_, linkMetric_};
 }
 
 bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, int firstContributor,
@@ -760,6 +761,16 @@ bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, 
     assembler.ReadBlock(contributor, block);
     assembler.WriteBlock(contributor, Matrix6::Identity().topLeftCorner(m, m));
     ++contributor;
+  }
+  if (projectHessian) {
+    // each link's inertia w·M about its joint origin: the metric that bounds
+    // the modification of indefinite pivots (ArticulatedTreeSolver)
+    for (int i = 0; i < GetNumLinks(); ++i) {
+      Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
+      real const w = inertia_[i].Weight();
+      linkMetric_[i] = SpatialStiffness(w * r * links_[i].inertia.asDiagonal() * r.transpose(),
+                                        w * links_[i].mass, kinematics_.com[i] - kinematics_.jointOrigin[i]);
+    }
   }
   int failedLink = -1;
   if (treeSolver_.Factorize(TreeSystem(), projectHessian, &failedLink)) return true;

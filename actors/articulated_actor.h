@@ -261,6 +261,8 @@ class ArticulatedActor final : public Actor {
   void ComputeGradientAndTreeTerms() const;
   internal::ArticulatedTreeSolver::System TreeSystem() const;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> own_, jointBlocks_;
+  /// each link's w·M about its joint origin, for a projected tree factorization
+  DynamicArray<Eigen::Matrix<real, 6, 6>> linkMetric_;
   /// The DoFs' motion about their joint's origin o_i, and o_i − o_parent,
   /// of the last ComputeGradientAndTreeTerms (what treeSolver_ factorized:
   /// the line search's energies move kinematics_, not these)

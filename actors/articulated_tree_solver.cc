@@ -45,6 +45,7 @@ ArticulatedTreeSolver::Matrix6 ArticulatedTreeSolver::ShiftToParent(Real3 const&
 void ArticulatedTreeSolver::Reserve(int numJoints) {
   std::size_t const n = static_cast<std::size_t>(numJoints);
   articulated_.resize(n);
+  metric_.resize(n);
   right_.resize(n);
   bias_.resize(n);
   motionSum_.resize(n);
@@ -66,8 +67,11 @@ bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDef
   real scale = 0;
   for (int i = 0; i < numJoints; ++i) articulated_[i] = system.own[i];
   if (makePositiveDefinite) {
+    bool const bounded = system.metric.size() == static_cast<std::size_t>(numJoints);
+    for (int i = 0; i < numJoints && bounded; ++i) metric_[i] = system.metric[i];
     for (int i = numJoints - 1; i >= 0; --i) {
       int const m = system.numDofs[i], parent = system.parent[i];
+      if (bounded && parent >= 0) metric_[parent] += ShiftToParent(system.shift[i], metric_[i]);
       if (m > 0) {
         Columns const s = system.motion.middleCols(system.dofStart[i], m);
         Columns const ys = articulated_[i] * s;
@@ -97,7 +101,21 @@ bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDef
         if (!makePositiveDefinite) return fail(i);
         // V max(|Λ|, floor) Vᵀ of the symmetric pivot
         Eigen::SelfAdjointEigenSolver<Block> eigen(pivot);
-        Local const values = eigen.eigenvalues().cwiseAbs().cwiseMax(floor);
+        Local values = eigen.eigenvalues();
+        int modified = 0;
+        for (int a = 0; a < m; ++a) modified += values[a] < floor;
+        // the bound on what a modified direction takes from the parent
+        Eigen::LLT<Matrix6> metric;
+        bool const bounded = parent >= 0 && system.metric.size() == static_cast<std::size_t>(numJoints);
+        if (bounded) metric.compute(metric_[i]);
+        for (int a = 0; a < m; ++a) {
+          if (!(values[a] < floor)) continue;
+          values[a] = std::max(std::abs(values[a]), floor);
+          if (bounded && metric.info() == Eigen::Success) {
+            Vector6 const u = right_[i] * eigen.eigenvectors().col(a);
+            values[a] = std::max(values[a], 2 * modified * u.dot(metric.solve(u)));
+          }
+        }
         pivot.noalias() = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
         pivots_[i].compute(pivot);
         ++modifiedPivots_;

@@ -36,7 +36,14 @@
 // as the dense modified Cholesky's): the factors then belong to the positive definite
 // H₊ = L D₊ Lᵀ, equal to H where every pivot was positive definite, which
 // keeps the curvature's magnitude where it was not (a modified block
-// Cholesky; docs/articulated.md, "Solving on the tree").
+// Cholesky; docs/articulated.md, "Solving on the tree"). A modified
+// eigenvalue is also raised so that what its direction v takes from the
+// parent, u uᵀ / λ̃ with u = Yᴬ_i S_i v, stays below half the subtree's
+// metric W_i (λ̃ ≥ 2 k uᵀ W_i⁻¹ u for k modified directions; Cauchy–Schwarz
+// gives u uᵀ ≤ (uᵀ W⁻¹ u) W). Without that bound |λ| near zero turns the
+// Schur update's sign into an arbitrarily large negative term, and on long
+// chains the next pivots up grew by ~10³ per ten joints (Gill, Murray and
+// Wright bound the factor L for the same reason).
 //
 // Allocation: Reserve(numJoints) sizes the workspaces; Factorize and Solve
 // allocate nothing.
@@ -59,6 +66,10 @@ class ArticulatedTreeSolver {
     Span<Matrix6 const> own;          ///< own_i of Y_i, about o_i
     Span<Matrix6 const> jointExtras;  ///< E_i in the top-left corner
     Span<Real3 const> shift;          ///< o_i − o_parent(i) (unused for roots)
+    /// Optional, for `makePositiveDefinite`: each joint's positive definite
+    /// metric W_i about o_i (the articulated actor's link inertia w·M),
+    /// composited over subtrees to bound the modification (Factorize)
+    Span<Matrix6 const> metric = {};
   };
 
   /// Xᵀ Y X for the motion transform X: v ← v − r × ω, the 6×6 about a
@@ -81,6 +92,7 @@ class ArticulatedTreeSolver {
   using Pivot = Eigen::LLT<Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>>;
   using Columns = Eigen::Matrix<real, 6, Eigen::Dynamic, 0, 6, 6>;
   DynamicArray<Matrix6> articulated_;  ///< Yᴬ_i
+  DynamicArray<Matrix6> metric_;       ///< the composite of System::metric over i's subtree
   DynamicArray<Columns> right_;        ///< Yᴬ_i S_i
   DynamicArray<Vector6> bias_;         ///< Σ over i's strict descendants of q_k = Yᴬ_k S_k Dₖ⁻¹ b̃_k
   DynamicArray<Vector6> motionSum_;    ///< back substitution: Σ over i and its ancestors of S_j x_j
