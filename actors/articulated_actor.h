@@ -98,10 +98,10 @@ struct ArticulatedLinkParams {
 
 struct ArticulatedActorParams {
   DynamicArray<ArticulatedLinkParams> links;  ///< at least one; link 0 is the root
-  /// Tree: the O(N) recursion; Dense: the dense block in the scene's matrix.
-  /// Dense by default until the tree's projected fallback is robust on long
-  /// falling chains (docs/articulated.md, "Solving on the tree").
-  ArticulatedBlockSolve blockSolve = ArticulatedBlockSolve::Dense;
+  /// Tree: the O(N) recursion (in one process; the dense block across
+  /// ranks or under constraints on more than one joint); Dense: the dense
+  /// block in the scene's matrix (docs/articulated.md, "Solving on the tree").
+  ArticulatedBlockSolve blockSolve = ArticulatedBlockSolve::Tree;
 };
 
 class ArticulatedActor final : public Actor {
@@ -241,6 +241,8 @@ class ArticulatedActor final : public Actor {
   DynamicArray<JointState> stageStart_, saved_;
   VectorX jointTarget_;  ///< Δ̂q, the reduced prediction (armature)
   mutable Kinematics kinematics_;
+  /// the dense block (sized by SizeDenseBlock: at creation for Dense, at
+  /// the first dense assembly for Tree)
   mutable MatrixX hessian_;
   mutable VectorX gradient_;  ///< of AddGradientAndHessian, over the actor's DoFs
   // the projected Hessian's modified factorization (sized at creation)
@@ -260,6 +262,7 @@ class ArticulatedActor final : public Actor {
   /// and gradient_.
   void ComputeGradientAndTreeTerms() const;
   internal::ArticulatedTreeSolver::System TreeSystem() const;
+  void SizeDenseBlock() const;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> own_, jointBlocks_;
   /// each link's w·M about its joint origin, for a projected tree factorization
   DynamicArray<Eigen::Matrix<real, 6, 6>> linkMetric_;

@@ -331,9 +331,11 @@ bool BuildRods(Cells const& cells, double ratio, FamilyScene& out, Error& error)
 /// compliant — the same mechanism and the same link inertia terms, so the
 /// two families differ only in how the joints are modelled. The stiffness
 /// ratio has no joint stiffness to act on and is ignored.
-bool BuildArticulatedChain(Cells const& cells, double /*ratio*/, FamilyScene& out, Error& error) {
+bool BuildArticulatedChainSolvedBy(ArticulatedBlockSolve solve, Cells const& cells, FamilyScene& out,
+                                   Error& error) {
   int const n = cells[0];
   ArticulatedActorParams params;
+  params.blockSolve = solve;
   real const side2 = kLinkSide * kLinkSide, length2 = kLinkLength * kLinkLength;
   for (int i = 0; i < n; ++i) {
     ArticulatedLinkParams link;
@@ -359,6 +361,16 @@ bool BuildArticulatedChain(Cells const& cells, double /*ratio*/, FamilyScene& ou
   return true;
 }
 
+/// chain-articulated: the actor's block solved by the O(N) tree recursion
+/// (the default); chain-articulated-dense: by the scene's solver as one
+/// dense block (docs/articulated.md, "Solving on the tree")
+bool BuildArticulatedChain(Cells const& cells, double /*ratio*/, FamilyScene& out, Error& error) {
+  return BuildArticulatedChainSolvedBy(ArticulatedBlockSolve::Tree, cells, out, error);
+}
+bool BuildArticulatedChainDense(Cells const& cells, double /*ratio*/, FamilyScene& out, Error& error) {
+  return BuildArticulatedChainSolvedBy(ArticulatedBlockSolve::Dense, cells, out, error);
+}
+
 struct Family {
   std::string_view name;
   std::string_view sizePrefix;  ///< before the counts: "N=" for the chain
@@ -371,7 +383,7 @@ struct Family {
   bool (*build)(Cells const&, double, FamilyScene&, Error&);
 };
 
-std::array<Family, 5> const kFamilies{{
+std::array<Family, 6> const kFamilies{{
     {"cantilever", "", 3, "40x8x8", "E", kBeamYoung, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return 3 * (c[0] + 1) * (c[1] + 1) * (c[2] + 1); }, BuildCantilever},
     {"cloth", "", 2, "32x32", "E", kClothYoung, kClothNewtonMaxIterations,
@@ -382,6 +394,8 @@ std::array<Family, 5> const kFamilies{{
      [](Cells const& c) { return 4 * c[0] * c[1] + RigidActor::kNumDofs; }, BuildRods},
     {"chain-articulated", "N=", 1, "N=50", "k", 0, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return 3 * c[0]; }, BuildArticulatedChain},
+    {"chain-articulated-dense", "N=", 1, "N=50", "k", 0, kDefaultNewtonMaxIterations,
+     [](Cells const& c) { return 3 * c[0]; }, BuildArticulatedChainDense},
 }};
 
 Family const* FindFamily(std::string_view name) {
@@ -395,7 +409,7 @@ Family const* Resolve(std::string const& family, std::string const& size, Cells&
                       std::string& message) {
   Family const* f = FindFamily(family);
   if (!f) {
-    message = "unknown family '" + family + "' (cantilever, cloth, chain, rods, chain-articulated)";
+    message = "unknown family '" + family + "' (cantilever, cloth, chain, rods, chain-articulated, chain-articulated-dense)";
     return nullptr;
   }
   if (!ParseCounts(size, f->sizePrefix, 'x', f->numCounts, cells)) {

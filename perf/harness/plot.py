@@ -63,7 +63,7 @@ COLUMNS = (
     "wall_per_step_s steady_per_step_s total_s ranks owned_dofs peak_rss_mb scene_rss_mb error reference joint_drift energy_gain "
     "status reason").split()
 # the two ways of building the chain (perf/harness/families.cc) and their line styles
-CHAINS = {"chain": "-", "chain-articulated": "--"}
+CHAINS = {"chain": "-", "chain-articulated": "--", "chain-articulated-dense": ":"}
 # µs per link per step of two established reduced-coordinate engines with
 # explicit (semi-implicit Euler) stepping, measured for reference (they diverge
 # on these chains at dt = 1e-2 and, for N = 50, at 1e-3: perf/harness/README.md)

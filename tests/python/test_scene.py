@@ -266,10 +266,11 @@ def test_articulated_pendulum_mass_matrix_and_motion():
     assert arm.get_joint_velocities().shape == (1,)
     com = arm.get_link_center_of_mass(0)
     np.testing.assert_allclose(com, [length / 2 * math.cos(theta), length / 2 * math.sin(theta), 0], atol=1e-12)
-    # solved by the tree recursion; the dense block (the default) steps the same motion
+    # solved by the tree recursion (the default); the dense block steps the same motion
     assert arm.get_block_solve() == mochi.ArticulatedBlockSolve.Tree and arm.is_solved_on_tree()
     dense_scene = mochi.Scene.create()
-    dense = dense_scene.create_articulated_actor(mochi.ArticulatedActorParams(links=[link]))
+    dense = dense_scene.create_articulated_actor(mochi.ArticulatedActorParams(
+        links=[link], block_solve=mochi.ArticulatedBlockSolve.Dense))
     assert dense.get_block_solve() == mochi.ArticulatedBlockSolve.Dense
     for _ in range(100):
         dense_scene.step(1e-3)

@@ -49,7 +49,7 @@ void DefineArticulatedActor(py::module_& m) {
       "A tree of links (Scene.create_articulated_actor); link 0 is the root. `links` reads as a "
       "list of copies: assign a whole list.")
       .Field("links", &P::links, "list of ArticulatedLinkParams, at least one")
-      .Field("block_solve", &P::blockSolve, "ArticulatedBlockSolve, default Dense");
+      .Field("block_solve", &P::blockSolve, "ArticulatedBlockSolve, default Tree");
 
   using Ref = ArticulatedActorRef;
   using A = ArticulatedActor;
