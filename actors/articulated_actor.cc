@@ -770,22 +770,23 @@ bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, 
     assembler.WriteBlock(contributor, Matrix6::Identity().topLeftCorner(m, m));
     ++contributor;
   }
-  if (projectHessian) {
-    // each link's inertia w·M about its joint origin: the metric that bounds
-    // the modification of indefinite pivots (ArticulatedTreeSolver)
-    for (int i = 0; i < GetNumLinks(); ++i) {
-      Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
-      real const w = inertia_[i].Weight();
-      linkMetric_[i] = SpatialStiffness(w * r * links_[i].inertia.asDiagonal() * r.transpose(),
-                                        w * links_[i].mass, kinematics_.com[i] - kinematics_.jointOrigin[i]);
-    }
-  }
   int failedLink = -1;
-  if (treeSolver_.Factorize(TreeSystem(), projectHessian, &failedLink)) return true;
-  // (the message only where it is final: an exact block that is not positive
-  // definite is retried projected, and a message per step would allocate)
-  if (projectHessian)
-    reason = "the articulated actor's Hessian is not positive definite (tree recursion, pivot of the joint of link " +
+  if (!projectHessian && treeSolver_.Factorize(TreeSystem(), false, &failedLink)) return true;
+  // Not positive definite (or the scene projects every Hessian): the tree
+  // made positive definite at once, as the projected retry would, without
+  // re-assembling the scene for it (the actor's block is solved apart from
+  // the scene's matrix, so its projection is its own; the retry cost the
+  // falling chain ~2 extra assemblies per step). The metric that bounds the
+  // modification: each link's inertia w·M about its joint origin
+  for (int i = 0; i < GetNumLinks(); ++i) {
+    Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
+    real const w = inertia_[i].Weight();
+    linkMetric_[i] = SpatialStiffness(w * r * links_[i].inertia.asDiagonal() * r.transpose(), w * links_[i].mass,
+                                      kinematics_.com[i] - kinematics_.jointOrigin[i]);
+  }
+  ++modifiedTreeFactorizations_;
+  if (treeSolver_.Factorize(TreeSystem(), true, &failedLink)) return true;
+  reason = "the articulated actor's Hessian is not finite (tree recursion, pivot of the joint of link " +
            std::to_string(failedLink) + ")";
   return false;
 }

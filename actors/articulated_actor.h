@@ -124,6 +124,9 @@ class ArticulatedActor final : public Actor {
   /// True while the stage solver solves the actor by the tree recursion
   /// (Tree requested, one process, no constraint coupling two joints).
   bool IsSolvedOnTree() const { return SolvesOwnBlock(); }
+  /// Tree factorizations made positive definite (the exact Hessian was
+  /// indefinite, or the scene projects every Hessian) since creation.
+  long GetNumModifiedTreeFactorizations() const { return modifiedTreeFactorizations_; }
 
   /// Link frame (origin and axes) in the world.
   Real3 GetLinkPosition(int link) const;
@@ -272,6 +275,7 @@ class ArticulatedActor final : public Actor {
   mutable Eigen::Matrix<real, 6, Eigen::Dynamic> localMotion_;
   mutable DynamicArray<Real3> shift_;
   internal::ArticulatedTreeSolver treeSolver_;
+  long modifiedTreeFactorizations_ = 0;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> composite_;
   mutable DynamicArray<Real3> wrenchForce_, wrenchMoment_, torqueSum_;
   mutable DynamicArray<Real33> forceMoment_;

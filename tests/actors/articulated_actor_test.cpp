@@ -258,13 +258,18 @@ TEST_CASE("the tree recursion solves the actor's Newton system as the dense bloc
     REQUIRE(solveOnTree(false, x));
     CHECK((x - expected).norm() <= 1e-10 * expected.norm());
     CHECK((dense.hessian * x - rhs).norm() <= 1e-10 * scale * expected.norm());
-  } else if (smallest < -1e-8 * scale) {
-    // indefinite: block Cholesky fails, as the scene's direct solver would
-    CHECK_FALSE(solveOnTree(false, x));
   }
+  // indefinite: the exact block Cholesky fails and the actor modifies the
+  // tree at once, the step the projected factorization gives
+  long const modifiedBefore = actor->GetNumModifiedTreeFactorizations();
+  VectorX exact(n);
+  REQUIRE(solveOnTree(false, exact));
+  if (smallest > 1e-8 * scale) CHECK(actor->GetNumModifiedTreeFactorizations() == modifiedBefore);
+  if (smallest < -1e-8 * scale) CHECK(actor->GetNumModifiedTreeFactorizations() == modifiedBefore + 1);
   // the modified factorization: a descent direction, and the exact step
   // where the block is positive definite, as the dense modified Cholesky
   REQUIRE(solveOnTree(true, x));
+  if (smallest < -1e-8 * scale) CHECK(exact == x);
   CHECK(dense.gradient.dot(x) < 0);
   if (smallest > 1e-8 * scale) {
     VectorX const expected = Eigen::LLT<MatrixX>(projected).solve(rhs);

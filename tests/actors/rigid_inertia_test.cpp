@@ -11,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <superdex/actors/rigid_inertia.h>
+#include <superdex/core/so3_jet.h>
 
 using namespace superdex;
 using namespace superdex::internal;
@@ -74,4 +75,43 @@ TEST_CASE("rigid inertia term: gradient and exact rotation Hessian match central
   Real33 const gaussNewton = stage.RotationHessianGaussNewton(rotation);
   if (stageAngle >= 0.3) REQUIRE((gaussNewton - hessian).norm() > 1e-3 * hScale);
   REQUIRE(Eigen::SelfAdjointEigenSolver<Real33>(gaussNewton).eigenvalues().minCoeff() >= 0);
+}
+
+TEST_CASE("rigid inertia term: the closed-form rotation Hessian equals second-order jets of Log(Exp(u) M0)",
+          "[actors][rigid][derivatives]") {
+  // H in closed form (J_l⁻¹ and its derivative) against the forward-mode
+  // second derivative of E(u) = ½ w (φ(u) − φ̂)ᵀ I (φ(u) − φ̂), φ(u) =
+  // Log(Exp(u) M₀): stage rotations on both sides of the 0.1 rad switch to
+  // the series of γ(θ), up to 3 rad. w I and φ̂ are read back from the
+  // Gauss–Newton block and the gradient (dφ/dδθ = J_l⁻¹(φ) Rⁿᵀ).
+  real const stageAngle = GENERATE(0.0, 1e-7, 1e-3, 0.0999, 0.1001, 0.7, 2.0, 3.0);
+  int const axisSeed = GENERATE(0, 1, 2);
+  CAPTURE(stageAngle, axisSeed);
+  RigidBodyMotion motion;
+  motion.rotation = Quat(Eigen::AngleAxis<real>(0.4 + axisSeed, Real3(1, 2 - axisSeed, 0.5).normalized()));
+  motion.angularVelocity = Real3(2 - axisSeed, 1.5, -0.7 * axisSeed);
+  RigidInertiaStage stage;
+  stage.Begin(MakeStage(IntegratorType::BackwardEuler, 0.02, false), 1.5, Real3(0.3, 0.45, 0.8), motion);
+  Real3 const axis = Real3(0.2 + axisSeed, -1, 0.6).normalized();
+  Quat const rotation = motion.rotation * Exp(stageAngle * axis);  // Rⁿᵀ R = Exp(stageAngle · axis)
+  Real3 const phi = Log(motion.rotation.conjugate() * rotation);
+  Real33 const rn = motion.rotation.toRotationMatrix();
+  Real33 const dPhi = LeftJacobianInverse(phi) * rn.transpose();
+  Real33 const weightedInertia = dPhi.transpose().inverse() * stage.RotationHessianGaussNewton(rotation) * dPhi.inverse();
+  Real3 force, torque;
+  stage.Gradient(motion.position, rotation, force, torque);
+  Real3 const lambda = dPhi.transpose().inverse() * torque;  // w I (φ − φ̂)
+  Real3 const target = phi - weightedInertia.inverse() * lambda;
+  // the reference: jets in u = Rⁿᵀ δθ
+  Real33 const m0 = (motion.rotation.conjugate() * rotation).normalized().toRotationMatrix();
+  JetVector3<3> const jetPhi = LogJet(Multiply(ExpSecondOrder(JetIncrement<3>(0)), m0));
+  Jet<3> energy;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k)
+      energy = energy + (0.5 * weightedInertia(i, k)) * ((jetPhi[i] - target[i]) * (jetPhi[k] - target[k]));
+  Real33 const reference = rn * energy.hessian * rn.transpose();
+  Real33 const hessian = stage.RotationHessian(rotation);
+  CAPTURE(hessian, reference);
+  REQUIRE(lambda.norm() > 1);  // the curvature term is exercised
+  CHECK((hessian - reference).norm() <= 1e-12 * reference.norm());
 }

@@ -516,7 +516,11 @@ TEST_CASE("a long chain released horizontally steps on the tree with its bounded
               "(%.1f); largest joint coordinate difference %.2e\n",
               treeStats.newtonIterations / 10.0, treeStats.projectionFallbacks / 10.0,
               denseStats.newtonIterations / 10.0, denseStats.projectionFallbacks / 10.0, difference);
-  CHECK(treeStats.projectionFallbacks >= 10);  // the modification ran in every step
-  CHECK(treeStats.newtonIterations <= 2 * denseStats.newtonIterations);
+  // the exact Hessian is indefinite in every step: the dense block goes
+  // through the scene's projected retry, the tree modifies its pivots at
+  // once without re-assembling the scene
+  CHECK(denseStats.projectionFallbacks >= 10);
+  CHECK(treeStats.projectionFallbacks == 0);
+  CHECK(treeStats.newtonIterations <= denseStats.newtonIterations + 5);
   CHECK(difference <= 1e-9);
 }

@@ -62,6 +62,8 @@ void DefineArticulatedActor(py::module_& m) {
       .def("get_block_solve", Forward<Ref>(&A::GetBlockSolve))
       .def("is_solved_on_tree", Forward<Ref>(&A::IsSolvedOnTree),
            "True while the stage solver solves the actor by the tree recursion (after a step).")
+      .def("get_num_modified_tree_factorizations", Forward<Ref>(&A::GetNumModifiedTreeFactorizations),
+           "Tree factorizations made positive definite (indefinite exact Hessian) since creation.")
       .def("get_joint_type", ForwardIndexed<Ref>(&A::GetJointType, links, "link"), py::arg("link"))
       .def("get_parent", ForwardIndexed<Ref>(&A::GetParent, links, "link"), py::arg("link"),
            "The parent link, -1 for the world.")
