@@ -786,8 +786,9 @@ bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, 
   }
   ++modifiedTreeFactorizations_;
   if (treeSolver_.Factorize(TreeSystem(), true, &failedLink)) return true;
-  reason = "the articulated actor's Hessian is not finite (tree recursion, pivot of the joint of link " +
-           std::to_string(failedLink) + ")";
+  reason = "the articulated actor's Hessian has no positive definite modification (tree recursion, pivot of "
+           "the joint of link " +
+           std::to_string(failedLink) + ": not finite, or zero with a zero Hessian)";
   return false;
 }
 

@@ -524,3 +524,31 @@ TEST_CASE("a long chain released horizontally steps on the tree with its bounded
   CHECK(treeStats.newtonIterations <= denseStats.newtonIterations + 5);
   CHECK(difference <= 1e-9);
 }
+
+TEST_CASE("a tree with no positive definite modification fails the step and changes nothing",
+          "[scene][articulated][tree]") {
+  // dt = 1e300: the inertia weight 1/dt² underflows to zero, and a horizontal
+  // link on a revolute joint has a gravity torque but no curvature, so the
+  // Newton matrix is the 1×1 zero: neither exact nor modified (its floor is
+  // 1e-10 of a zero diagonal) positive definite
+  SceneParams params;
+  params.gravity = Real3(0, -9.81, 0);
+  auto scene = MakeScene(params);
+  ArticulatedActorParams p;
+  ArticulatedLinkParams link;
+  link.joint = JointType::Revolute;
+  link.axis = Real3::UnitZ();
+  link.centerOfMass = Real3(0.5, 0, 0);
+  p.links.push_back(link);
+  Error error;
+  ArticulatedActor* actor = scene->CreateArticulatedActor(p, error);
+  REQUIRE(actor);
+  DynamicArray<real> const before = actor->GetJointPositions();
+  REQUIRE_FALSE(scene->Step(1e300, error));
+  CAPTURE(error.ToString());
+  CHECK(error.GetCode() == ErrorCode::LinearSolverFailed);
+  CHECK(error.GetMessage().find("no positive definite modification") != std::string::npos);
+  CHECK(actor->GetJointPositions() == before);
+  CHECK(scene->GetTime() == 0);
+  StepOk(*scene, 1.0 / 60, 1);  // the scene steps on
+}
