@@ -3,7 +3,6 @@
 #include <array>
 #include <cmath>
 
-
 namespace superdex::internal {
 
 void RigidInertiaStage::Begin(StageCoefficients const& stage, real mass, Real3 const& inertia,
@@ -81,18 +80,10 @@ Real33 RigidInertiaStage::RotationHessian(Quat const& rotation) const {
   // second-order jets of Log ∘ Exp gave: 38 % of an articulated chain's
   // step went to those; rigid_inertia_test compares the two to 1e-12.)
   Real3 const phi = StageRotation(rotation);
-  real const theta = phi.norm(), t2 = theta * theta;
-  real gamma, gammaRate;  // γ(θ) and γ′(θ)/θ; their series below 0.1 rad, where the closed forms cancel digits
-  if (theta < 0.1) {
-    gamma = 1.0 / 12 + t2 / 720 + t2 * t2 / 30240 + t2 * t2 * t2 / 1209600;
-    gammaRate = 1.0 / 360 + t2 / 7560 + t2 * t2 / 201600;
-  } else {
-    real const half = theta / 2, cotangent = std::cos(half) / std::sin(half), sine = std::sin(half);
-    gamma = 1 / t2 - cotangent / (2 * theta);
-    gammaRate = (-2 / (t2 * theta) + cotangent / (2 * t2) + 1 / (4 * theta * sine * sine)) / theta;
-  }
+  real const gamma = LeftJacobianInverseCoefficient(phi.norm());
+  real const gammaRate = LeftJacobianInverseCoefficientRate(phi.norm());
   Real33 const hatPhi = Hat(phi);
-  Real33 const inverse = Real33::Identity() - 0.5 * hatPhi + gamma * hatPhi * hatPhi;
+  Real33 const inverse = LeftJacobianInverse(phi);
   Real3 const lambda = weight_ * inertia_.cwiseProduct(phi - targetRotation_);
   Real33 const hatLambda = Hat(lambda);
   Real33 const m = 0.5 * hatLambda + gammaRate * phi * (hatPhi * hatPhi * lambda).transpose() -

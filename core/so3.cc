@@ -60,14 +60,23 @@ void LeftJacobianCoefficients(real theta, real& a, real& b) {
     b = (theta - std::sin(theta)) / (t2 * theta);
   }
 }
-// Coefficient of J_l⁻¹(φ) = I − ½ Hat(φ) + c Hat(φ)²:
-//   c = 1/θ² − cot(θ/2)/(2θ), regular at θ = 0 (→ 1/12) and at θ = π (→ 1/π²)
+}  // namespace
+
 real LeftJacobianInverseCoefficient(real theta) {
   real const t2 = theta * theta;
   if (theta < 1e-3) return 1.0 / 12 + t2 / 720 + t2 * t2 / 30240;
   return 1 / t2 - std::cos(theta / 2) / (2 * theta * std::sin(theta / 2));
 }
-}  // namespace
+
+real LeftJacobianInverseCoefficientRate(real theta) {
+  // γ′(θ) = −2/θ³ + cot(θ/2)/(2θ²) + 1/(4θ sin²(θ/2)); below 0.1 rad its
+  // terms cancel to ~1e-9, where the series (γ = 1/12 + θ²/720 + θ⁴/30240 +
+  // θ⁶/1209600 + …, differentiated) is exact to round-off
+  real const t2 = theta * theta;
+  if (theta < 0.1) return 1.0 / 360 + t2 / 7560 + t2 * t2 / 201600;
+  real const sine = std::sin(theta / 2), cotangent = std::cos(theta / 2) / sine;
+  return (-2 / (t2 * theta) + cotangent / (2 * t2) + 1 / (4 * theta * sine * sine)) / theta;
+}
 
 Real33 LeftJacobian(Real3 const& phi) {
   real a, b;

@@ -34,6 +34,11 @@ Real3 Log(Real33 const& rotation);
 
 Real33 LeftJacobian(Real3 const& phi);
 Real33 LeftJacobianInverse(Real3 const& phi);
+/// γ(θ) of J_l⁻¹(φ) = I − ½ Hat(φ) + γ Hat(φ)²: 1/θ² − cot(θ/2)/(2θ),
+/// regular at θ = 0 (→ 1/12) and at θ = π (→ 1/π²).
+real LeftJacobianInverseCoefficient(real theta);
+/// γ′(θ)/θ (→ 1/360 at θ = 0): D(J_l⁻¹)(φ)[b] has the term (γ′/θ)(φ·b) Hat(φ)².
+real LeftJacobianInverseCoefficientRate(real theta);
 Real33 RightJacobian(Real3 const& phi);
 Real33 RightJacobianInverse(Real3 const& phi);
 
