@@ -259,6 +259,49 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   return actor;
 }
 
+void ArticulatedActor::PoseLink(int i, JointState const& q, Real3 const& parentPosition,
+                                Quat const& parentRotation, LinkPose& pose,
+                                Eigen::Ref<Eigen::Matrix<real, 6, Eigen::Dynamic>> motion) const {
+  Link const& l = links_[i];
+  Quat const pre = parentRotation * l.parentToJointRotation;
+  Real3 origin = parentPosition + parentRotation * l.parentToJointPosition;
+  Quat post = pre;
+  switch (l.joint) {
+    case JointType::Revolute: post = pre * Quat(Eigen::AngleAxis<real>(q.scalar, l.axis)); break;
+    case JointType::Prismatic: origin += pre * (q.scalar * l.axis); break;
+    case JointType::Spherical: post = pre * q.rotation; break;
+    case JointType::Free:
+      origin += pre * q.translation;
+      post = pre * q.rotation;
+      break;
+    case JointType::Fixed: break;
+  }
+  post.normalize();
+  pose.preRotation = pre;
+  pose.postRotation = post;
+  pose.jointOrigin = origin;
+  pose.linkRotation = (post * l.jointToChildRotation).normalized();
+  pose.linkPosition = origin + post * l.jointToChildPosition;
+  // each DoF's world motion (ω; v at the origin), v_O = o × ω for a rotation about o
+  Real33 const preMatrix = pre.toRotationMatrix(), postMatrix = post.toRotationMatrix();
+  auto rotationAbout = [&](int column, Real3 const& omega) { motion.col(column) << omega, origin.cross(omega); };
+  auto translationAlong = [&](int column, Real3 const& direction) {
+    motion.col(column) << Real3::Zero(), direction;
+  };
+  switch (l.joint) {
+    case JointType::Revolute: rotationAbout(0, preMatrix * l.axis); break;
+    case JointType::Prismatic: translationAlong(0, preMatrix * l.axis); break;
+    case JointType::Spherical:
+      for (int a = 0; a < 3; ++a) rotationAbout(a, postMatrix.col(a));
+      break;
+    case JointType::Free:
+      for (int a = 0; a < 3; ++a) translationAlong(a, preMatrix.col(a));
+      for (int a = 0; a < 3; ++a) rotationAbout(3 + a, postMatrix.col(a));
+      break;
+    case JointType::Fixed: break;
+  }
+}
+
 void ArticulatedActor::ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k) const {
   int const numLinks = GetNumLinks();
   for (auto* v : {&k.linkPosition, &k.com, &k.jointOrigin}) v->resize(numLinks);
@@ -266,49 +309,59 @@ void ArticulatedActor::ComputeKinematics(DynamicArray<JointState> const& joints,
   k.motion.resize(6, numDofs_);
   for (int i = 0; i < numLinks; ++i) {
     Link const& l = links_[i];
-    JointState const& q = joints[i];
-    Quat const parentRotation = l.parent < 0 ? Quat::Identity() : k.linkRotation[l.parent];
-    Real3 const parentPosition = l.parent < 0 ? Real3::Zero() : k.linkPosition[l.parent];
-    Quat const pre = parentRotation * l.parentToJointRotation;
-    Real3 origin = parentPosition + parentRotation * l.parentToJointPosition;
-    Quat post = pre;
-    switch (l.joint) {
-      case JointType::Revolute: post = pre * Quat(Eigen::AngleAxis<real>(q.scalar, l.axis)); break;
-      case JointType::Prismatic: origin += pre * (q.scalar * l.axis); break;
-      case JointType::Spherical: post = pre * q.rotation; break;
-      case JointType::Free:
-        origin += pre * q.translation;
-        post = pre * q.rotation;
-        break;
-      case JointType::Fixed: break;
+    LinkPose pose;
+    PoseLink(i, joints[i], l.parent < 0 ? Real3::Zero() : k.linkPosition[l.parent],
+             l.parent < 0 ? Quat::Identity() : k.linkRotation[l.parent], pose,
+             k.motion.middleCols(l.dofStart, l.numDofs));
+    k.preRotation[i] = pose.preRotation;
+    k.postRotation[i] = pose.postRotation;
+    k.jointOrigin[i] = pose.jointOrigin;
+    k.linkRotation[i] = pose.linkRotation;
+    k.linkPosition[i] = pose.linkPosition;
+    k.com[i] = pose.linkPosition + pose.linkRotation * l.centerOfMass;
+  }
+}
+
+internal::LinkPath ArticulatedActor::GetLinkPath(int link) const {
+  internal::LinkPath path;
+  path.link = link;
+  for (int i = link; i >= 0; i = links_[i].parent) path.links.push_back(i);
+  std::reverse(path.links.begin(), path.links.end());
+  for (int i : path.links) {
+    Link const& l = links_[i];
+    for (int a = 0; a < l.numDofs; ++a) {
+      path.dofs.push_back(l.dofStart + a);
+      path.dofLink.push_back(i);
+      bool const rotates = l.joint == JointType::Revolute || l.joint == JointType::Spherical ||
+                           (l.joint == JointType::Free && a >= 3);
+      path.dofRotates.push_back(rotates ? 1 : 0);
     }
-    post.normalize();
-    k.preRotation[i] = pre;
-    k.postRotation[i] = post;
-    k.jointOrigin[i] = origin;
-    k.linkRotation[i] = (post * l.jointToChildRotation).normalized();
-    k.linkPosition[i] = origin + post * l.jointToChildPosition;
-    k.com[i] = k.linkPosition[i] + k.linkRotation[i] * l.centerOfMass;
-    // each DoF's world motion (ω; v at the origin), v_O = o × ω for a rotation about o
-    Real33 const preMatrix = pre.toRotationMatrix(), postMatrix = post.toRotationMatrix();
-    auto rotationAbout = [&](int column, Real3 const& omega) {
-      k.motion.col(column) << omega, origin.cross(omega);
-    };
-    auto translationAlong = [&](int column, Real3 const& direction) {
-      k.motion.col(column) << Real3::Zero(), direction;
-    };
-    switch (l.joint) {
-      case JointType::Revolute: rotationAbout(l.dofStart, preMatrix * l.axis); break;
-      case JointType::Prismatic: translationAlong(l.dofStart, preMatrix * l.axis); break;
-      case JointType::Spherical:
-        for (int a = 0; a < 3; ++a) rotationAbout(l.dofStart + a, postMatrix.col(a));
-        break;
-      case JointType::Free:
-        for (int a = 0; a < 3; ++a) translationAlong(l.dofStart + a, preMatrix.col(a));
-        for (int a = 0; a < 3; ++a) rotationAbout(l.dofStart + 3 + a, postMatrix.col(a));
-        break;
-      case JointType::Fixed: break;
-    }
+  }
+  path.jacobian.setZero(6, static_cast<Eigen::Index>(path.dofs.size()));
+  ComputeLinkFrame(path);
+  return path;
+}
+
+void ArticulatedActor::ComputeLinkFrame(internal::LinkPath& path) const {
+  // forward kinematics along the path only, each joint's world motion
+  // (ω; v_O) written into its columns, then turned into (δt; δθ) of the link
+  // frame: δt = v_O + ω × t
+  Real3 position = Real3::Zero();
+  Quat rotation = Quat::Identity();
+  int column = 0;
+  for (int i : path.links) {
+    LinkPose pose;
+    PoseLink(i, state_.joints[i], position, rotation, pose, path.jacobian.middleCols(column, links_[i].numDofs));
+    column += links_[i].numDofs;
+    position = pose.linkPosition;
+    rotation = pose.linkRotation;
+  }
+  path.position = position;
+  path.rotation = rotation;
+  for (Eigen::Index c = 0; c < path.jacobian.cols(); ++c) {
+    Real3 const omega = path.jacobian.col(c).head<3>();
+    Real3 const velocity = path.jacobian.col(c).tail<3>() + omega.cross(position);
+    path.jacobian.col(c) << velocity, omega;
   }
 }
 

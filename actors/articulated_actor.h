@@ -57,6 +57,7 @@
 #include <Eigen/Cholesky>
 
 #include <superdex/actors/articulated_tree_solver.h>
+#include <superdex/actors/link_path.h>
 
 #include <superdex/actors/actor.h>
 #include <superdex/actors/rigid_inertia.h>
@@ -127,6 +128,14 @@ class ArticulatedActor final : public Actor {
   /// Tree factorizations made positive definite (the exact Hessian was
   /// indefinite, or the scene projects every Hessian) since creation.
   long GetNumModifiedTreeFactorizations() const { return modifiedTreeFactorizations_; }
+
+  /// The path of `link` for a constraint acting on it as a rigid body
+  /// (internal: actors/link_path.h), its frame evaluated at the current
+  /// iterate.
+  internal::LinkPath GetLinkPath(int link) const;
+  /// Refreshes path.position, path.rotation and path.jacobian at the current
+  /// iterate: O(path length), no allocation.
+  void ComputeLinkFrame(internal::LinkPath& path) const;
 
   /// Link frame (origin and axes) in the world.
   Real3 GetLinkPosition(int link) const;
@@ -224,6 +233,15 @@ class ArticulatedActor final : public Actor {
   void RestoreSnapshot(internal::ActorSnapshot const& snapshot) override;
 
   void ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k) const;
+  /// One link's pose from its parent's (the world's for the root) and its
+  /// joint's state; its DoFs' world motion (ω; v_O) into `motion` (one
+  /// column per DoF of the joint).
+  struct LinkPose {
+    Real3 linkPosition, jointOrigin;
+    Quat linkRotation, preRotation, postRotation;
+  };
+  void PoseLink(int link, JointState const& q, Real3 const& parentPosition, Quat const& parentRotation,
+                LinkPose& pose, Eigen::Ref<Eigen::Matrix<real, 6, Eigen::Dynamic>> motion) const;
   /// q ⊖ q⁰ of joint `link` in its increment coordinates (spherical/free
   /// rotations: Log(R⁰ᵀ R), local), written at out[0..numDofs).
   void JointDifference(int link, JointState const& q, JointState const& q0, real* out) const;

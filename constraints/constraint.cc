@@ -4,6 +4,8 @@
 #include <limits>
 
 #include <superdex/actors/actor.h>
+#include <superdex/actors/articulated_actor.h>
+#include <superdex/actors/rigid_actor.h>
 #include <superdex/assembly/hessian_assembler.h>
 #include <superdex/core/validate.h>
 
@@ -71,6 +73,10 @@ void ConstraintWorkspace::Reserve(int maxDimension, int maxDofs) {
   r.resize(std::max(maxDofs, maxDimension));
   jacobian.resize(maxDimension, maxDofs);
   hessian.resize(maxDofs, maxDofs);
+  curvature.resize(maxDofs, maxDofs);
+  typeJacobian.resize(maxDimension, kMaxDofs);
+  linkMap.resize(kMaxDofs, maxDofs);
+  product.resize(kMaxDofs, maxDofs);
 }
 }  // namespace internal
 
@@ -86,6 +92,16 @@ Constraint::Constraint(Layout layout, internal::CompliantParams const& params)
       params_(params),
       stageParams_(params),
       stageStartValue_(VectorX::Zero(layout.dimension)) {
+  // an articulated link: the type's DoFs are its frame's rigid increments,
+  // the constraint's the joint DoFs of its path
+  for (int a = 0; a < numActors_; ++a) {
+    typeNumDofs_ += static_cast<int>(localDofs_[a].size());
+    if (layout.links[a] < 0) continue;
+    links_[a] = layout.links[a];
+    paths_[a] = static_cast<ArticulatedActor const*>(actors_[a])->GetLinkPath(links_[a]);
+    typeDofs_[a] = std::move(localDofs_[a]);
+    localDofs_[a] = paths_[a].dofs;
+  }
   RefreshDofs();
   force_.assign(dofs_.size(), 0);
 }
@@ -237,9 +253,23 @@ Quat Constraint::TargetRotation(Span<real const> target, int offset) {
   return Quat(target[offset], target[offset + 1], target[offset + 2], target[offset + 3]);
 }
 
+Real3 Constraint::BodyPosition(int i) const {
+  return links_[i] >= 0 ? paths_[i].position : static_cast<RigidActor const*>(actors_[i])->GetPosition();
+}
+
+Quat Constraint::BodyRotation(int i) const {
+  return links_[i] >= 0 ? paths_[i].rotation : static_cast<RigidActor const*>(actors_[i])->GetRotation();
+}
+
+void Constraint::RefreshLinkFrames() const {
+  for (int a = 0; a < numActors_; ++a)
+    if (links_[a] >= 0) static_cast<ArticulatedActor const*>(actors_[a])->ComputeLinkFrame(paths_[a]);
+}
+
 DynamicArray<real> Constraint::GetDeviation() const {
+  RefreshLinkFrames();
   VectorX g(dimension_);
-  MatrixX jacobian(dimension_, dofs_.size());
+  MatrixX jacobian(dimension_, typeNumDofs_);
   DoEvaluate(target_, g, jacobian);
   return DynamicArray<real>(g.begin(), g.end());
 }
@@ -298,8 +328,79 @@ DynamicArray<real> Constraint::GetLimitMaxValues(Error& error) const {
 // ---- stage interface ----
 
 void Constraint::Evaluate(Span<real const> target, internal::ConstraintWorkspace& ws) const {
-  int const n = static_cast<int>(dofs_.size());
-  DoEvaluate(target, ws.g.head(dimension_), ws.jacobian.topLeftCorner(dimension_, n));
+  int const m = dimension_, n = static_cast<int>(dofs_.size());
+  if (!HasLinks()) {
+    DoEvaluate(target, ws.g.head(m), ws.jacobian.topLeftCorner(m, n));
+    return;
+  }
+  // J = J_type B: B maps the constraint's DoFs to the type's (the identity
+  // on a rigid body or a deformable's DoFs; a link's kinematic Jacobian rows)
+  RefreshLinkFrames();
+  int const k = typeNumDofs_;
+  auto typeJacobian = ws.typeJacobian.topLeftCorner(m, k);
+  DoEvaluate(target, ws.g.head(m), typeJacobian);
+  auto map = ws.linkMap.topLeftCorner(k, n);
+  map.setZero();
+  for (int a = 0, row = 0, column = 0; a < numActors_; ++a) {
+    if (links_[a] < 0) {
+      int const size = static_cast<int>(localDofs_[a].size());
+      map.block(row, column, size, size).setIdentity();
+      row += size;
+      column += size;
+      continue;
+    }
+    int const size = static_cast<int>(localDofs_[a].size());
+    for (int local : typeDofs_[a]) map.row(row++).segment(column, size) = paths_[a].jacobian.row(local);
+    column += size;
+  }
+  ws.jacobian.topLeftCorner(m, n).noalias() = typeJacobian * map;
+}
+
+void Constraint::AddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
+                              internal::ConstraintWorkspace& ws, Eigen::Ref<MatrixX> hessian) const {
+  if (!HasLinks()) {
+    DoAddCurvature(target, weights, hessian);
+    return;
+  }
+  int const m = dimension_, n = static_cast<int>(dofs_.size()), k = typeNumDofs_;
+  // Bᵀ G B, G the type's curvature over its rigid DoFs
+  ws.typeCurvature.setZero(k, k);
+  DoAddCurvature(target, weights, ws.typeCurvature);
+  auto const map = ws.linkMap.topLeftCorner(k, n);
+  auto product = ws.product.topLeftCorner(k, n);
+  product.noalias() = ws.typeCurvature * map;
+  hessian.noalias() += map.transpose() * product;
+  // each link frame's own curvature against the type's wrench (F; M) = J_typeᵀ w
+  // on it: with the DoFs' columns (u; ω) of the frame's Jacobian, a the
+  // outer DoF (an ancestor's, or a free joint's translation before its
+  // rotation), ∂²t/∂q_a∂q_b = ω_a × u_b and ∂²θ/∂q_a∂q_b = ½ ω_a × ω_b;
+  // two rotations of one spherical or free joint (commuting to second
+  // order in Exp) take the symmetric mean, ½ (ω_a × u_b + ω_b × u_a) and 0
+  auto const typeJacobian = ws.typeJacobian.topLeftCorner(m, k);
+  for (int a = 0, typeColumn = 0, column = 0; a < numActors_; ++a) {
+    int const size = static_cast<int>(localDofs_[a].size());
+    if (links_[a] < 0) {
+      typeColumn += size;
+      column += size;
+      continue;
+    }
+    Eigen::Matrix<real, 6, 1> wrench = Eigen::Matrix<real, 6, 1>::Zero();
+    for (int local : typeDofs_[a]) wrench[local] = typeJacobian.col(typeColumn++).dot(weights);
+    Real3 const force = wrench.head<3>(), moment = wrench.tail<3>();
+    internal::LinkPath const& path = paths_[a];
+    for (int i = 0; i < size; ++i) {
+      Real3 const ui = path.jacobian.col(i).head<3>(), wi = path.jacobian.col(i).tail<3>();
+      for (int j = i; j < size; ++j) {
+        Real3 const uj = path.jacobian.col(j).head<3>(), wj = path.jacobian.col(j).tail<3>();
+        bool const sameJoint = path.dofLink[i] == path.dofLink[j] && path.dofRotates[i] && path.dofRotates[j];
+        real const value = sameJoint ? 0.5 * force.dot(wi.cross(uj) + wj.cross(ui))
+                                     : force.dot(wi.cross(uj)) + 0.5 * moment.dot(wi.cross(wj));
+        hessian(column + i, column + j) += value;
+        if (j != i) hessian(column + j, column + i) += value;
+      }
+    }
+    column += size;
+  }
 }
 
 bool Constraint::BeginStage(real h, real nearRigidBeta, Span<real const> inverseMasses,
@@ -372,16 +473,17 @@ void Constraint::AddGradientAndHessian(real h, internal::HessianAssembler& assem
     // a step along a curved constraint manifold leaves g with a second-order
     // error that a stiff k turns into a large, spurious force (and an
     // indefinite G); f̂ is the estimate a primal–dual Newton method carries.
-    ws.curvature.setZero(n, n);
+    auto curvature = ws.curvature.topLeftCorner(n, n);
+    curvature.setZero();
     if (forceEstimateValid_)
-      DoAddCurvature(target_, forceEstimate_, ws.curvature);
+      AddCurvature(target_, forceEstimate_, ws, curvature);
     else
-      DoAddCurvature(target_, ws.f.head(m), ws.curvature);
+      AddCurvature(target_, ws.f.head(m), ws, curvature);
     if (projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal) {
       // PSD: G replaced by the diagonal of its column norms (Andrews et al.)
-      for (int j = 0; j < n; ++j) hessian(j, j) += ws.curvature.col(j).norm();
+      for (int j = 0; j < n; ++j) hessian(j, j) += curvature.col(j).norm();
     } else {
-      hessian += ws.curvature;
+      hessian += curvature;
     }
   }
   assembler.AddBlock(contributor, hessian);

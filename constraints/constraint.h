@@ -14,6 +14,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <superdex/actors/link_path.h>
 #include <superdex/constraints/compliant_potential.h>
 #include <superdex/core/error.h>
 #include <superdex/core/handle.h>
@@ -85,14 +86,27 @@ bool CheckConstraintHessian(ConstraintHessian hessian, std::string_view field, b
 /// Scratch for evaluating constraints, owned by the stage solver and sized
 /// once per pattern build to the largest m and n.
 struct ConstraintWorkspace {
-  /// The most DoFs a constraint couples (RigidSphericalJoint: 12).
+  /// The most DoFs a type's kinematics couple (RigidSphericalJoint: 12, six
+  /// per rigid body); with an articulated link in place of a rigid body a
+  /// constraint's n is larger (its path's joint DoFs), its type's is not.
   static constexpr int kMaxDofs = 12;
   using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDofs, kMaxDofs>;
 
   VectorX g, f, r;
   MatrixX jacobian, hessian;
-  Block curvature;  ///< G (fixed capacity: no allocation)
+  MatrixX curvature;  ///< G over the constraint's n DoFs
+  // a constraint on articulated links: the type's J and G over its rigid
+  // DoFs, the map from the constraint's DoFs to them, and a product
+  MatrixX typeJacobian, linkMap, product;
+  Block typeCurvature;
   void Reserve(int maxDimension, int maxDofs);
+};
+
+/// A rigid body a constraint acts on: a RigidActor (link −1) or link `link`
+/// of an ArticulatedActor.
+struct RigidBodySlot {
+  Actor* actor = nullptr;
+  int link = -1;
 };
 }  // namespace internal
 
@@ -181,6 +195,13 @@ class Constraint {
 
   /// A type declares m, its kind of target, whether it is a range type, and
   /// for each actor the local DoFs it touches (e.g. {3,4,5}: rotation only).
+  /// Where actor i is an articulated link (links[i] >= 0), the type still
+  /// writes J and G over the rigid-body DoFs it lists (a subset of 0..5 of
+  /// the link frame's increments) and reads the frame through BodyPosition /
+  /// BodyRotation; the constraint's DoFs on that actor are the joint DoFs
+  /// from the root to the link, and J and G are mapped onto them through the
+  /// link's kinematic Jacobian (internal::LinkPath; docs/articulated.md,
+  /// "Links in constraints").
   struct Layout {
     ConstraintType type;
     int dimension;
@@ -188,6 +209,7 @@ class Constraint {
     bool isRange = false;
     bool hasCurvature = false;  ///< g nonlinear: the type overrides DoAddCurvature
     std::array<Actor*, 2> actors{};
+    std::array<int, 2> links{-1, -1};
     std::array<DynamicArray<int>, 2> localDofs;
   };
   Constraint(Layout layout, internal::CompliantParams const& params);
@@ -216,6 +238,14 @@ class Constraint {
   void InitializeTarget(Target const& target);
   static Real3 TargetPosition(Span<real const> target);
   static Quat TargetRotation(Span<real const> target, int offset = 0);
+  /// The frame of the rigid body that is actor `i`: a RigidActor's pose, or
+  /// an articulated link's frame at the current iterate (refreshed before
+  /// every DoEvaluate and DoAddCurvature).
+  Real3 BodyPosition(int i) const;
+  Quat BodyRotation(int i) const;
+  /// Recomputes the articulated links' frames and Jacobians at the current
+  /// iterate (a type's public queries of the pose call it first).
+  void RefreshLinkFrames() const;
 
  private:
   friend class Scene;
@@ -233,6 +263,12 @@ class Constraint {
   /// Recomputes global DoF indices from the actors' offsets.
   void RefreshDofs();
   void Evaluate(Span<real const> target, internal::ConstraintWorkspace& ws) const;
+  /// Adds Σᵢ wᵢ ∂²gᵢ/∂q² over the constraint's n DoFs to `hessian`, after an
+  /// Evaluate at `target` with the same `ws` (links: Bᵀ G B plus the link
+  /// frames' own curvature against the type's wrench Jᵀw).
+  void AddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
+                    internal::ConstraintWorkspace& ws, Eigen::Ref<MatrixX> hessian) const;
+  bool HasLinks() const { return links_[0] >= 0 || links_[1] >= 0; }
 
   // stage interface
   /// Records g(qᵢ⁰, p̂ᵢ⁰) and this stage's compliant parameters: with
@@ -283,6 +319,12 @@ class Constraint {
   std::array<Actor*, 2> actors_{};
   std::array<DynamicArray<int>, 2> localDofs_;
   DynamicArray<int> dofs_;  ///< global DoF list (actor 0's, then actor 1's)
+  /// per actor: the link it is (−1: the actor itself), the type's rigid DoFs
+  /// on it where it is a link, and the link's path and frame
+  std::array<int, 2> links_{-1, -1};
+  std::array<DynamicArray<int>, 2> typeDofs_;
+  mutable std::array<internal::LinkPath, 2> paths_;
+  int typeNumDofs_ = 0;
   internal::CompliantParams params_;
   internal::CompliantParams stageParams_;  ///< params_, or its near-rigid cap, for this stage
   bool nearRigidCapped_ = false;

@@ -8,26 +8,26 @@
 namespace superdex {
 
 DeformableNodeToRigidConstraint::DeformableNodeToRigidConstraint(
-    NodalActor* deformable, RigidActor* rigid, DeformableNodeToRigidConstraintParams const& params)
+    NodalActor* deformable, internal::RigidBodySlot rigid, DeformableNodeToRigidConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::DeformableNodeToRigid,
                         .dimension = 3,
                         .hasCurvature = true,
-                        .actors = {deformable, rigid},
+                        .actors = {deformable, rigid.actor},
+                        .links = {-1, rigid.link},
                         .localDofs = {deformable->GetNodePositionDofs(params.deformableNodeIndex),
                                       DynamicArray<int>{0, 1, 2, 3, 4, 5}}},
                  {params.stiffness, params.damping, params.saturation}),
       deformable_(deformable),
-      rigid_(rigid),
       node_(params.deformableNodeIndex),
       localPos_(params.fixToDeformablePos
-                    ? Real3(rigid->GetRotation().conjugate() *
-                            (deformable->GetNodePosition(params.deformableNodeIndex) - rigid->GetPosition()))
+                    ? Real3(BodyRotation(1).conjugate() *
+                            (deformable->GetNodePosition(params.deformableNodeIndex) - BodyPosition(1)))
                     : params.localPos) {}
 
 void DeformableNodeToRigidConstraint::DoEvaluate(Span<real const>, Eigen::Ref<VectorX> g,
                                                  Eigen::Ref<MatrixX> jacobian) const {
-  Real3 const arm = rigid_->GetRotation() * localPos_;
-  g = rigid_->GetPosition() + arm - deformable_->GetNodePosition(node_);
+  Real3 const arm = BodyRotation(1) * localPos_;
+  g = BodyPosition(1) + arm - deformable_->GetNodePosition(node_);
   jacobian.block<3, 3>(0, 0) = -deformable_->GetTransformRotation().toRotationMatrix();
   jacobian.block<3, 3>(0, 3).setIdentity();
   jacobian.block<3, 3>(0, 6) = -Hat(arm);
@@ -37,7 +37,7 @@ void DeformableNodeToRigidConstraint::DoAddCurvature(Span<real const>, Eigen::Re
                                                      Eigen::Ref<MatrixX> hessian) const {
   // the node's world position is linear in its displacement
   hessian.block<3, 3>(6, 6) +=
-      internal::RotatedVectorCurvature(weights.head<3>(), rigid_->GetRotation() * localPos_);
+      internal::RotatedVectorCurvature(weights.head<3>(), BodyRotation(1) * localPos_);
 }
 
 }  // namespace superdex

@@ -15,11 +15,11 @@
 namespace superdex {
 
 class NodalActor;
-class RigidActor;
 
 struct DeformableNodeToRigidConstraintParams {
   ActorHandle deformableActor;        ///< a deformable actor
-  ActorHandle rigidActor;             ///< a rigid actor
+  ActorHandle rigidActor;             ///< a rigid actor, or an articulated actor with `rigidLink`
+  int rigidLink = -1;                 ///< the link acting as the rigid body (−1: a rigid actor)
   int deformableNodeIndex = 0;        ///< node of the deformable actor
   bool fixToDeformablePos = true;     ///< r from the node's position at creation
   Real3 localPos = Real3::Zero();     ///< r in the rigid body frame when !fixToDeformablePos [m]
@@ -30,7 +30,7 @@ struct DeformableNodeToRigidConstraintParams {
 
 class DeformableNodeToRigidConstraint final : public Constraint {
  public:
-  DeformableNodeToRigidConstraint(NodalActor* deformable, RigidActor* rigid,
+  DeformableNodeToRigidConstraint(NodalActor* deformable, internal::RigidBodySlot rigid,
                                   DeformableNodeToRigidConstraintParams const& params);
   /// r, the pivot in the rigid body's frame.
   Real3 const& GetLocalPos() const { return localPos_; }
@@ -42,7 +42,6 @@ class DeformableNodeToRigidConstraint final : public Constraint {
                       Eigen::Ref<MatrixX> hessian) const override;
 
   NodalActor* deformable_;
-  RigidActor* rigid_;
   int node_;
   Real3 localPos_;
 };

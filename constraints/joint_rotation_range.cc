@@ -6,38 +6,38 @@
 namespace superdex {
 
 JointRotationRangeConstraint::JointRotationRangeConstraint(
-    RigidActor* actorA, RigidActor* actorB, JointRotationRangeConstraintParams const& params)
+    internal::RigidBodySlot bodyA, internal::RigidBodySlot bodyB, JointRotationRangeConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::JointRotationRange,
                         .dimension = 3,
                         .isRange = true,
                         .hasCurvature = true,
-                        .actors = {actorA, actorB},
+                        .actors = {bodyA.actor, bodyB.actor},
+                        .links = {bodyA.link, bodyB.link},
                         .localDofs = {DynamicArray<int>{3, 4, 5}, DynamicArray<int>{3, 4, 5}}},
                  {params.stiffness, params.damping, params.saturation}),
-      bodyA_(actorA),
-      bodyB_(actorB),
-      frameInA_((actorA->GetRotation().conjugate() * params.jointFrame).normalized()),
+      frameInA_((BodyRotation(0).conjugate() * params.jointFrame).normalized()),
       referenceRotation_(Quat::Identity()),
       lowerLimits_(params.lowerLimits),
       upperLimits_(params.upperLimits) {
   referenceRotation_ = params.rangeAroundRest
-                           ? (frameInA_.conjugate() * actorA->GetRotation().conjugate() *
-                              actorB->GetRotation() * frameInA_)
+                           ? (frameInA_.conjugate() * BodyRotation(0).conjugate() *
+                              BodyRotation(1) * frameInA_)
                                  .normalized()
                            : params.referenceRotation.normalized();
 }
 
 Real3 JointRotationRangeConstraint::GetRelativeRotation() const {
+  RefreshLinkFrames();
   // r_AB = Log((R_A R₀)ᵀ (R_B R₀ R_refᵀ))
-  return Log((bodyA_->GetRotation() * frameInA_).conjugate() *
-             (bodyB_->GetRotation() * frameInA_ * referenceRotation_.conjugate()));
+  return Log((BodyRotation(0) * frameInA_).conjugate() *
+             (BodyRotation(1) * frameInA_ * referenceRotation_.conjugate()));
 }
 
 void JointRotationRangeConstraint::DoEvaluate(Span<real const>, Eigen::Ref<VectorX> g,
                                               Eigen::Ref<MatrixX> jacobian) const {
   internal::RotationResidual const r = internal::EvaluateRotationResidual(
-      bodyA_->GetRotation() * frameInA_,
-      bodyB_->GetRotation() * frameInA_ * referenceRotation_.conjugate());
+      BodyRotation(0) * frameInA_,
+      BodyRotation(1) * frameInA_ * referenceRotation_.conjugate());
   for (int j = 0; j < 3; ++j) {
     real slope;
     g[j] = internal::OneSidedViolation(r.value[j], lowerLimits_[j], upperLimits_[j], slope);
@@ -54,8 +54,8 @@ void JointRotationRangeConstraint::DoGetLimits(DynamicArray<real>& lower,
 
 void JointRotationRangeConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<VectorX const> const& weights,
                                                   Eigen::Ref<MatrixX> hessian) const {
-  Quat const left = bodyA_->GetRotation() * frameInA_;
-  Quat const right = bodyB_->GetRotation() * frameInA_ * referenceRotation_.conjugate();
+  Quat const left = BodyRotation(0) * frameInA_;
+  Quat const right = BodyRotation(1) * frameInA_ * referenceRotation_.conjugate();
   Real3 const x = Log(left.conjugate() * right);
   Real3 w;
   for (int j = 0; j < 3; ++j) {

@@ -21,11 +21,12 @@
 
 namespace superdex {
 
-class RigidActor;
 
 struct JointRotationRangeConstraintParams {
-  ActorHandle actorA;                   ///< a rigid actor
-  ActorHandle actorB;                   ///< a different rigid actor
+  ActorHandle actorA;                   ///< a rigid actor, or an articulated actor with `linkA`
+  ActorHandle actorB;                   ///< a different rigid actor, or an articulated actor with `linkB`
+  int linkA = -1;                       ///< the link acting as body A (−1: a rigid actor)
+  int linkB = -1;                       ///< the link acting as body B (−1: a rigid actor)
   Quat jointFrame = Quat::Identity();   ///< joint frame, world, at creation
   /// l_j [rad], −∞ for no bound; each <= the matching upper limit
   Real3 lowerLimits = Real3::Constant(-std::numeric_limits<real>::infinity());
@@ -40,7 +41,7 @@ struct JointRotationRangeConstraintParams {
 
 class JointRotationRangeConstraint final : public Constraint {
  public:
-  JointRotationRangeConstraint(RigidActor* actorA, RigidActor* actorB,
+  JointRotationRangeConstraint(internal::RigidBodySlot bodyA, internal::RigidBodySlot bodyB,
                                JointRotationRangeConstraintParams const& params);
 
   /// r_AB, the measured relative rotation vector.
@@ -53,8 +54,6 @@ class JointRotationRangeConstraint final : public Constraint {
                       Eigen::Ref<MatrixX> hessian) const override;
   void DoGetLimits(DynamicArray<real>& lower, DynamicArray<real>& upper) const override;
 
-  RigidActor* bodyA_;
-  RigidActor* bodyB_;
   Quat frameInA_;           ///< R₀
   Quat referenceRotation_;  ///< R_ref
   Real3 lowerLimits_, upperLimits_;

@@ -6,25 +6,24 @@
 namespace superdex {
 
 JointRotationTrackingConstraint::JointRotationTrackingConstraint(
-    RigidActor* actorA, RigidActor* actorB, JointRotationTrackingConstraintParams const& params)
+    internal::RigidBodySlot bodyA, internal::RigidBodySlot bodyB, JointRotationTrackingConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::JointRotationTracking,
                         .dimension = 3,
                         .targetKind = TargetKind::Rotation,
                         .hasCurvature = true,
-                        .actors = {actorA, actorB},
+                        .actors = {bodyA.actor, bodyB.actor},
+                        .links = {bodyA.link, bodyB.link},
                         .localDofs = {DynamicArray<int>{3, 4, 5}, DynamicArray<int>{3, 4, 5}}},
                  {params.stiffness, params.damping, params.saturation}),
-      bodyA_(actorA),
-      bodyB_(actorB),
-      frameInA_((actorA->GetRotation().conjugate() * params.jointFrame).normalized()) {
-  Quat const relative = (actorA->GetRotation().conjugate() * actorB->GetRotation()).normalized();
+      frameInA_((BodyRotation(0).conjugate() * params.jointFrame).normalized()) {
+  Quat const relative = (BodyRotation(0).conjugate() * BodyRotation(1)).normalized();
   InitializeTarget({relative.w(), relative.x(), relative.y(), relative.z()});
 }
 
 void JointRotationTrackingConstraint::DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                                                  Eigen::Ref<MatrixX> jacobian) const {
   internal::RotationResidual const r = internal::EvaluateRotationResidual(
-      bodyA_->GetRotation() * TargetRotation(target) * frameInA_, bodyB_->GetRotation() * frameInA_);
+      BodyRotation(0) * TargetRotation(target) * frameInA_, BodyRotation(1) * frameInA_);
   g = r.value;
   jacobian.block<3, 3>(0, 0) = -r.derivativeQ;
   jacobian.block<3, 3>(0, 3) = r.derivativeQ;
@@ -35,7 +34,7 @@ void JointRotationTrackingConstraint::DoAddCurvature(Span<real const> target,
                                                      Eigen::Ref<MatrixX> hessian) const {
   // L = R_A R̂ R₀ turns with A, Q = R_B R₀ with B: the DoFs are (δL, δQ)
   hessian.topLeftCorner<6, 6>() += internal::RotationResidualCurvature(
-      bodyA_->GetRotation() * TargetRotation(target) * frameInA_, bodyB_->GetRotation() * frameInA_,
+      BodyRotation(0) * TargetRotation(target) * frameInA_, BodyRotation(1) * frameInA_,
       weights.head<3>());
 }
 

@@ -16,11 +16,12 @@
 
 namespace superdex {
 
-class RigidActor;
 
 struct JointRotationTrackingConstraintParams {
-  ActorHandle actorA;                  ///< a rigid actor
-  ActorHandle actorB;                  ///< a different rigid actor
+  ActorHandle actorA;                  ///< a rigid actor, or an articulated actor with `linkA`
+  ActorHandle actorB;                  ///< a different rigid actor, or an articulated actor with `linkB`
+  int linkA = -1;                      ///< the link acting as body A (−1: a rigid actor)
+  int linkB = -1;                      ///< the link acting as body B (−1: a rigid actor)
   Quat jointFrame = Quat::Identity();  ///< joint frame R₀, world, at creation
   real stiffness = 0;                  ///< k >= 0 [N·m/rad]
   real damping = 0;                    ///< d >= 0 [N·m·s/rad]
@@ -29,7 +30,7 @@ struct JointRotationTrackingConstraintParams {
 
 class JointRotationTrackingConstraint final : public Constraint {
  public:
-  JointRotationTrackingConstraint(RigidActor* actorA, RigidActor* actorB,
+  JointRotationTrackingConstraint(internal::RigidBodySlot bodyA, internal::RigidBodySlot bodyB,
                                   JointRotationTrackingConstraintParams const& params);
 
   /// The current target R̂ (B relative to A, A-local).
@@ -41,8 +42,6 @@ class JointRotationTrackingConstraint final : public Constraint {
   void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
                       Eigen::Ref<MatrixX> hessian) const override;
 
-  RigidActor* bodyA_;
-  RigidActor* bodyB_;
   Quat frameInA_;  ///< R₀
 };
 

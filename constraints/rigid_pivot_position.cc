@@ -7,23 +7,23 @@
 namespace superdex {
 
 RigidPivotPositionConstraint::RigidPivotPositionConstraint(
-    RigidActor* actor, RigidPivotPositionConstraintParams const& params)
+    internal::RigidBodySlot body, RigidPivotPositionConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::RigidPivotPosition,
                         .dimension = 3,
                         .targetKind = TargetKind::Position,
                         .hasCurvature = true,
-                        .actors = {actor, nullptr},
+                        .actors = {body.actor, nullptr},
+                        .links = {body.link, -1},
                         .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5}, DynamicArray<int>{}}},
                  {params.stiffness, params.damping, params.saturation}),
-      body_(actor),
       localPos_(params.localPos) {
   InitializeTarget({params.position.x(), params.position.y(), params.position.z()});
 }
 
 void RigidPivotPositionConstraint::DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                                               Eigen::Ref<MatrixX> jacobian) const {
-  Real3 const arm = body_->GetRotation() * localPos_;
-  g = body_->GetPosition() + arm - TargetPosition(target);
+  Real3 const arm = BodyRotation(0) * localPos_;
+  g = BodyPosition(0) + arm - TargetPosition(target);
   jacobian.block<3, 3>(0, 0).setIdentity();
   jacobian.block<3, 3>(0, 3) = -Hat(arm);
 }
@@ -31,7 +31,7 @@ void RigidPivotPositionConstraint::DoEvaluate(Span<real const> target, Eigen::Re
 void RigidPivotPositionConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<VectorX const> const& weights,
                                                   Eigen::Ref<MatrixX> hessian) const {
   hessian.block<3, 3>(3, 3) +=
-      internal::RotatedVectorCurvature(weights.head<3>(), body_->GetRotation() * localPos_);
+      internal::RotatedVectorCurvature(weights.head<3>(), BodyRotation(0) * localPos_);
 }
 
 }  // namespace superdex

@@ -11,10 +11,10 @@
 
 namespace superdex {
 
-class RigidActor;
 
 struct RigidPivotPositionConstraintParams {
-  ActorHandle actor;                 ///< a rigid actor
+  ActorHandle actor;                 ///< a rigid actor, or an articulated actor with `link`
+  int link = -1;                     ///< the articulated actor's link acting as the body (−1: a rigid actor)
   Real3 localPos = Real3::Zero();    ///< pivot r in the body frame [m]
   Real3 position = Real3::Zero();    ///< target p̂, world [m]
   real stiffness = 0;                ///< k >= 0 [N/m]
@@ -24,7 +24,7 @@ struct RigidPivotPositionConstraintParams {
 
 class RigidPivotPositionConstraint final : public Constraint {
  public:
-  RigidPivotPositionConstraint(RigidActor* actor, RigidPivotPositionConstraintParams const& params);
+  RigidPivotPositionConstraint(internal::RigidBodySlot body, RigidPivotPositionConstraintParams const& params);
 
   Real3 const& GetLocalPos() const { return localPos_; }
   Real3 GetTargetPosition() const { return TargetPosition(GetTarget()); }
@@ -35,7 +35,6 @@ class RigidPivotPositionConstraint final : public Constraint {
   void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
                       Eigen::Ref<MatrixX> hessian) const override;
 
-  RigidActor* body_;
   Real3 localPos_;
 };
 

@@ -6,15 +6,15 @@
 namespace superdex {
 
 RigidPivotRotationConstraint::RigidPivotRotationConstraint(
-    RigidActor* actor, RigidPivotRotationConstraintParams const& params)
+    internal::RigidBodySlot body, RigidPivotRotationConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::RigidPivotRotation,
                         .dimension = 3,
                         .targetKind = TargetKind::Rotation,
                         .hasCurvature = true,
-                        .actors = {actor, nullptr},
+                        .actors = {body.actor, nullptr},
+                        .links = {body.link, -1},
                         .localDofs = {DynamicArray<int>{3, 4, 5}, DynamicArray<int>{}}},
                  {params.stiffness, params.damping, params.saturation}),
-      body_(actor),
       localRotation_(params.localRotation.normalized()) {
   Quat const q = params.rotation.normalized();
   InitializeTarget({q.w(), q.x(), q.y(), q.z()});
@@ -24,7 +24,7 @@ void RigidPivotRotationConstraint::DoEvaluate(Span<real const> target, Eigen::Re
                                               Eigen::Ref<MatrixX> jacobian) const {
   // g = Log(Lᵀ Q) with L = I and Q = R R_ℓ R̂ᵀ; R multiplies Q from the left
   internal::RotationResidual const r = internal::EvaluateRotationResidual(
-      Quat::Identity(), body_->GetRotation() * localRotation_ * TargetRotation(target).conjugate());
+      Quat::Identity(), BodyRotation(0) * localRotation_ * TargetRotation(target).conjugate());
   g = r.value;
   jacobian = r.derivativeQ;
 }
@@ -34,7 +34,7 @@ void RigidPivotRotationConstraint::DoAddCurvature(Span<real const> target,
                                                   Eigen::Ref<MatrixX> hessian) const {
   hessian.topLeftCorner<3, 3>() +=
       internal::RotationResidualCurvature(Quat::Identity(),
-                                          body_->GetRotation() * localRotation_ * TargetRotation(target).conjugate(),
+                                          BodyRotation(0) * localRotation_ * TargetRotation(target).conjugate(),
                                           weights.head<3>())
           .bottomRightCorner<3, 3>();
 }

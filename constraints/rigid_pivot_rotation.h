@@ -12,10 +12,10 @@
 
 namespace superdex {
 
-class RigidActor;
 
 struct RigidPivotRotationConstraintParams {
-  ActorHandle actor;                       ///< a rigid actor
+  ActorHandle actor;                       ///< a rigid actor, or an articulated actor with `link`
+  int link = -1;                           ///< the articulated actor's link acting as the body (−1: a rigid actor)
   Quat localRotation = Quat::Identity();   ///< pivot frame R_ℓ in the body frame
   Quat rotation = Quat::Identity();        ///< target R̂, world
   real stiffness = 0;                      ///< k >= 0 [N·m/rad]
@@ -25,7 +25,7 @@ struct RigidPivotRotationConstraintParams {
 
 class RigidPivotRotationConstraint final : public Constraint {
  public:
-  RigidPivotRotationConstraint(RigidActor* actor, RigidPivotRotationConstraintParams const& params);
+  RigidPivotRotationConstraint(internal::RigidBodySlot body, RigidPivotRotationConstraintParams const& params);
 
   Quat const& GetLocalRotation() const { return localRotation_; }
 
@@ -35,7 +35,6 @@ class RigidPivotRotationConstraint final : public Constraint {
   void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
                       Eigen::Ref<MatrixX> hessian) const override;
 
-  RigidActor* body_;
   Quat localRotation_;
 };
 

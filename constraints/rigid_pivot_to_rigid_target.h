@@ -12,10 +12,10 @@
 
 namespace superdex {
 
-class RigidActor;
 
 struct RigidPivotToRigidTargetConstraintParams {
-  ActorHandle actor;                  ///< a rigid actor
+  ActorHandle actor;                  ///< a rigid actor, or an articulated actor with `link`
+  int link = -1;                      ///< the articulated actor's link acting as the body (−1: a rigid actor)
   Real3 localPos = Real3::Zero();     ///< pivot r in the body frame [m]
   Real3 position = Real3::Zero();     ///< target translation t̂, world [m]
   Quat rotation = Quat::Identity();   ///< target rotation R̂, world
@@ -26,7 +26,7 @@ struct RigidPivotToRigidTargetConstraintParams {
 
 class RigidPivotToRigidTargetConstraint final : public Constraint {
  public:
-  RigidPivotToRigidTargetConstraint(RigidActor* actor,
+  RigidPivotToRigidTargetConstraint(internal::RigidBodySlot body,
                                     RigidPivotToRigidTargetConstraintParams const& params);
 
   Real3 const& GetLocalPos() const { return localPos_; }
@@ -37,7 +37,6 @@ class RigidPivotToRigidTargetConstraint final : public Constraint {
   void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
                       Eigen::Ref<MatrixX> hessian) const override;
 
-  RigidActor* body_;
   Real3 localPos_;
 };
 

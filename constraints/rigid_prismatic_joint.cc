@@ -7,16 +7,15 @@
 namespace superdex {
 
 RigidPrismaticJointConstraint::RigidPrismaticJointConstraint(
-    RigidActor* actorA, RigidActor* actorB, RigidPrismaticJointConstraintParams const& params)
+    internal::RigidBodySlot bodyA, internal::RigidBodySlot bodyB, RigidPrismaticJointConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::RigidPrismaticJoint,
                         .dimension = 3,
                         .hasCurvature = true,
-                        .actors = {actorA, actorB},
+                        .actors = {bodyA.actor, bodyB.actor},
+                        .links = {bodyA.link, bodyB.link},
                         .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5}, DynamicArray<int>{0, 1, 2}}},
                  {params.stiffness, params.damping, params.saturation}),
-      bodyA_(actorA),
-      bodyB_(actorB),
-      frameInA_((actorA->GetRotation().conjugate() * params.jointFrame).normalized()),
+      frameInA_((BodyRotation(0).conjugate() * params.jointFrame).normalized()),
       referenceOffset_(Real3::Zero()),
       lowerLimit_(params.lowerLimit),
       upperLimit_(params.upperLimit) {
@@ -24,14 +23,15 @@ RigidPrismaticJointConstraint::RigidPrismaticJointConstraint(
 }
 
 Real3 RigidPrismaticJointConstraint::GetOffset() const {
-  Quat const frame = bodyA_->GetRotation() * frameInA_;
-  return frame.conjugate() * (bodyB_->GetPosition() - bodyA_->GetPosition()) - referenceOffset_;
+  RefreshLinkFrames();
+  Quat const frame = BodyRotation(0) * frameInA_;
+  return frame.conjugate() * (BodyPosition(1) - BodyPosition(0)) - referenceOffset_;
 }
 
 void RigidPrismaticJointConstraint::DoEvaluate(Span<real const>, Eigen::Ref<VectorX> g,
                                                Eigen::Ref<MatrixX> jacobian) const {
-  Real33 const frameT = (bodyA_->GetRotation() * frameInA_).conjugate().toRotationMatrix();
-  Real3 const separation = bodyB_->GetPosition() - bodyA_->GetPosition();
+  Real33 const frameT = (BodyRotation(0) * frameInA_).conjugate().toRotationMatrix();
+  Real3 const separation = BodyPosition(1) - BodyPosition(0);
   Real3 const s = frameT * separation - referenceOffset_;
   // ds/dt_A = −F, ds/dδθ_A = F Hat(t_B − t_A), ds/dt_B = F, with F = R₀ᵀ R_Aᵀ
   jacobian.block<3, 3>(0, 0) = -frameT;
@@ -57,8 +57,8 @@ void RigidPrismaticJointConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<
   real const travel = GetOffset().z();
   Real3 w = weights.head<3>();
   if (!(travel > upperLimit_ || travel < lowerLimit_)) w.z() = 0;
-  Real3 const worldWeights = (bodyA_->GetRotation() * frameInA_) * w;
-  Real3 const separation = bodyB_->GetPosition() - bodyA_->GetPosition();
+  Real3 const worldWeights = (BodyRotation(0) * frameInA_) * w;
+  Real3 const separation = BodyPosition(1) - BodyPosition(0);
   Real33 const coupling = Hat(worldWeights);
   hessian.block<3, 3>(3, 3) += internal::RotatedVectorCurvature(worldWeights, separation);
   hessian.block<3, 3>(3, 6) += coupling;

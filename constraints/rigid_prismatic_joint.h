@@ -25,11 +25,12 @@
 
 namespace superdex {
 
-class RigidActor;
 
 struct RigidPrismaticJointConstraintParams {
-  ActorHandle actorA;                      ///< a rigid actor
-  ActorHandle actorB;                      ///< a different rigid actor
+  ActorHandle actorA;                      ///< a rigid actor, or an articulated actor with `linkA`
+  ActorHandle actorB;                      ///< a different rigid actor, or an articulated actor with `linkB`
+  int linkA = -1;                          ///< the link acting as body A (−1: a rigid actor)
+  int linkB = -1;                          ///< the link acting as body B (−1: a rigid actor)
   Quat jointFrame = Quat::Identity();      ///< joint frame, world, at creation; z = sliding axis
   bool offsetAroundRest = true;            ///< s_ref = the creation-time offset
   Real3 referenceOffset = Real3::Zero();   ///< s_ref when !offsetAroundRest [m], joint frame
@@ -42,7 +43,7 @@ struct RigidPrismaticJointConstraintParams {
 
 class RigidPrismaticJointConstraint final : public Constraint {
  public:
-  RigidPrismaticJointConstraint(RigidActor* actorA, RigidActor* actorB,
+  RigidPrismaticJointConstraint(internal::RigidBodySlot bodyA, internal::RigidBodySlot bodyB,
                                 RigidPrismaticJointConstraintParams const& params);
 
   /// s (before the limit rule), the offset of B from A in the joint frame.
@@ -56,8 +57,6 @@ class RigidPrismaticJointConstraint final : public Constraint {
   void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
                       Eigen::Ref<MatrixX> hessian) const override;
 
-  RigidActor* bodyA_;
-  RigidActor* bodyB_;
   Quat frameInA_;  ///< R₀
   Real3 referenceOffset_;
   real lowerLimit_, upperLimit_;

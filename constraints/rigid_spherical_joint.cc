@@ -7,24 +7,23 @@
 namespace superdex {
 
 RigidSphericalJointConstraint::RigidSphericalJointConstraint(
-    RigidActor* actorA, RigidActor* actorB, RigidSphericalJointConstraintParams const& params)
+    internal::RigidBodySlot bodyA, internal::RigidBodySlot bodyB, RigidSphericalJointConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::RigidSphericalJoint,
                         .dimension = 3,
                         .hasCurvature = true,
-                        .actors = {actorA, actorB},
+                        .actors = {bodyA.actor, bodyB.actor},
+                        .links = {bodyA.link, bodyB.link},
                         .localDofs = {DynamicArray<int>{0, 1, 2, 3, 4, 5},
                                       DynamicArray<int>{0, 1, 2, 3, 4, 5}}},
                  {params.stiffness, params.damping, params.saturation}),
-      bodyA_(actorA),
-      bodyB_(actorB),
       localPosA_(params.localPosA),
       localPosB_(params.localPosB) {}
 
 void RigidSphericalJointConstraint::DoEvaluate(Span<real const>, Eigen::Ref<VectorX> g,
                                                Eigen::Ref<MatrixX> jacobian) const {
-  Real3 const armA = bodyA_->GetRotation() * localPosA_;
-  Real3 const armB = bodyB_->GetRotation() * localPosB_;
-  g = (bodyA_->GetPosition() + armA) - (bodyB_->GetPosition() + armB);
+  Real3 const armA = BodyRotation(0) * localPosA_;
+  Real3 const armB = BodyRotation(1) * localPosB_;
+  g = (BodyPosition(0) + armA) - (BodyPosition(1) + armB);
   jacobian.block<3, 3>(0, 0).setIdentity();
   jacobian.block<3, 3>(0, 3) = -Hat(armA);
   jacobian.block<3, 3>(0, 6) = -Real33::Identity();
@@ -35,8 +34,8 @@ void RigidSphericalJointConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<
                                                    Eigen::Ref<MatrixX> hessian) const {
   // g is linear in the translations; each arm turns with its body
   Real3 const w = weights.head<3>();
-  hessian.block<3, 3>(3, 3) += internal::RotatedVectorCurvature(w, bodyA_->GetRotation() * localPosA_);
-  hessian.block<3, 3>(9, 9) -= internal::RotatedVectorCurvature(w, bodyB_->GetRotation() * localPosB_);
+  hessian.block<3, 3>(3, 3) += internal::RotatedVectorCurvature(w, BodyRotation(0) * localPosA_);
+  hessian.block<3, 3>(9, 9) -= internal::RotatedVectorCurvature(w, BodyRotation(1) * localPosB_);
 }
 
 }  // namespace superdex

@@ -11,11 +11,12 @@
 
 namespace superdex {
 
-class RigidActor;
 
 struct RigidSphericalJointConstraintParams {
-  ActorHandle actorA;                 ///< a rigid actor
-  ActorHandle actorB;                 ///< a different rigid actor
+  ActorHandle actorA;                 ///< a rigid actor, or an articulated actor with `linkA`
+  ActorHandle actorB;                 ///< a different rigid actor, or an articulated actor with `linkB`
+  int linkA = -1;                     ///< the link acting as body A (−1: a rigid actor)
+  int linkB = -1;                     ///< the link acting as body B (−1: a rigid actor)
   Real3 localPosA = Real3::Zero();    ///< pivot r_A in A's body frame [m]
   Real3 localPosB = Real3::Zero();    ///< pivot r_B in B's body frame [m]
   real stiffness = 0;                 ///< k >= 0 [N/m]
@@ -25,7 +26,7 @@ struct RigidSphericalJointConstraintParams {
 
 class RigidSphericalJointConstraint final : public Constraint {
  public:
-  RigidSphericalJointConstraint(RigidActor* actorA, RigidActor* actorB,
+  RigidSphericalJointConstraint(internal::RigidBodySlot bodyA, internal::RigidBodySlot bodyB,
                                 RigidSphericalJointConstraintParams const& params);
 
   Real3 const& GetLocalPosA() const { return localPosA_; }
@@ -37,8 +38,6 @@ class RigidSphericalJointConstraint final : public Constraint {
   void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
                       Eigen::Ref<MatrixX> hessian) const override;
 
-  RigidActor* bodyA_;
-  RigidActor* bodyB_;
   Real3 localPosA_, localPosB_;
 };
 

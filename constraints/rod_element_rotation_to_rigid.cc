@@ -13,30 +13,30 @@ Quat MaterialRotation(RodActor const& rod, int element) {
 }  // namespace
 
 RodElementRotationToRigidConstraint::RodElementRotationToRigidConstraint(
-    RigidActor* rigid, RodActor* rod, RodElementRotationToRigidConstraintParams const& params)
+    internal::RigidBodySlot rigid, RodActor* rod, RodElementRotationToRigidConstraintParams const& params)
     : Constraint(Layout{.type = ConstraintType::RodElementRotationToRigid,
                         .dimension = 3,
                         .targetKind = TargetKind::Rotation,
                         .hasCurvature = true,
-                        .actors = {rigid, rod},
+                        .actors = {rigid.actor, rod},
+                        .links = {rigid.link, -1},
                         .localDofs = {DynamicArray<int>{3, 4, 5},
                                       DynamicArray<int>{4 * params.elementIndex, 4 * params.elementIndex + 1,
                                                         4 * params.elementIndex + 2, 4 * params.elementIndex + 3,
                                                         4 * params.elementIndex + 4, 4 * params.elementIndex + 5,
                                                         4 * params.elementIndex + 6, 4 * params.elementIndex + 7}}},
                  {params.stiffness, params.damping, params.saturation}),
-      rigid_(rigid),
       rod_(rod),
       element_(params.elementIndex),
-      frameInBody_((rigid->GetRotation().conjugate() * params.jointFrame).normalized()) {
-  Quat const relative = (rigid->GetRotation().conjugate() * MaterialRotation(*rod, element_)).normalized();
+      frameInBody_((BodyRotation(0).conjugate() * params.jointFrame).normalized()) {
+  Quat const relative = (BodyRotation(0).conjugate() * MaterialRotation(*rod, element_)).normalized();
   InitializeTarget({relative.w(), relative.x(), relative.y(), relative.z()});
 }
 
 void RodElementRotationToRigidConstraint::DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                                                      Eigen::Ref<MatrixX> jacobian) const {
   internal::RotationResidual const r = internal::EvaluateRotationResidual(
-      rigid_->GetRotation() * TargetRotation(target) * frameInBody_,
+      BodyRotation(0) * TargetRotation(target) * frameInBody_,
       MaterialRotation(*rod_, element_) * frameInBody_);
   g = r.value;
   jacobian.block<3, 3>(0, 0) = -r.derivativeQ;
@@ -60,7 +60,7 @@ void RodElementRotationToRigidConstraint::DoAddCurvature(Span<real const> target
       y.gradient.tail<4>() = x.gradient;
       y.hessian.bottomRightCorner<4, 4>() = x.hessian;
     }
-  Quat const left = rigid_->GetRotation() * TargetRotation(target) * frameInBody_;
+  Quat const left = BodyRotation(0) * TargetRotation(target) * frameInBody_;
   internal::JetMatrix3<7> const m = internal::Multiply(
       internal::Multiply(internal::TurnedLeftTransposed<7>(left, 0), frame), frameInBody_.toRotationMatrix());
   internal::JetVector3<7> const phi = internal::LogJet(m);

@@ -22,11 +22,11 @@
 
 namespace superdex {
 
-class RigidActor;
 class RodActor;
 
 struct RodElementRotationToRigidConstraintParams {
-  ActorHandle rigidActor;              ///< a rigid actor
+  ActorHandle rigidActor;              ///< a rigid actor, or an articulated actor with `rigidLink`
+  int rigidLink = -1;                  ///< the link acting as the rigid body (−1: a rigid actor)
   ActorHandle rodActor;                ///< a rod actor
   int elementIndex = 0;                ///< element e = (e, e+1) of the rod
   Quat jointFrame = Quat::Identity();  ///< R₀, world, at creation
@@ -37,7 +37,7 @@ struct RodElementRotationToRigidConstraintParams {
 
 class RodElementRotationToRigidConstraint final : public Constraint {
  public:
-  RodElementRotationToRigidConstraint(RigidActor* rigid, RodActor* rod,
+  RodElementRotationToRigidConstraint(internal::RigidBodySlot rigid, RodActor* rod,
                                       RodElementRotationToRigidConstraintParams const& params);
 
   int GetElementIndex() const { return element_; }
@@ -50,7 +50,6 @@ class RodElementRotationToRigidConstraint final : public Constraint {
   void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
                       Eigen::Ref<MatrixX> hessian) const override;
 
-  RigidActor* rigid_;
   RodActor* rod_;
   int element_;
   Quat frameInBody_;  ///< R₀

@@ -303,16 +303,60 @@ bool CheckLimits(real lower, real upper, std::string const& field, Error& error)
 }
 }  // namespace
 
-bool Scene::GetRigidPair(ActorHandle actorA, ActorHandle actorB, std::string_view paramsName,
-                         RigidActor*& a, RigidActor*& b, Error& error) const {
-  std::string const prefix(paramsName);
-  a = GetRigidActor(actorA, prefix + ".actorA", error);
-  if (!a) return false;
-  b = GetRigidActor(actorB, prefix + ".actorB", error);
-  if (!b) return false;
-  if (a == b) {
+bool Scene::GetRigidBody(ActorHandle handle, int link, std::string_view paramsName,
+                         std::string_view actorField, std::string_view linkField, internal::RigidBodySlot& body,
+                         Error& error) const {
+  std::string const prefix = std::string(paramsName) + ".";
+  Actor* actor = actors_.Get(handle);
+  if (!actor) {
+    error.Set(ErrorCode::InvalidHandle, prefix + std::string(actorField) + ": actor handle " + HandleText(handle) +
+                                            " " + WhyNotFound(actors_, handle, id_));
+    return false;
+  }
+  std::string const linkText = prefix + std::string(linkField);
+  switch (actor->GetType()) {
+    case ActorType::Rigid:
+      if (link != -1) {
+        error.Set(ErrorCode::InvalidArgument, linkText + " must be -1 for the Rigid actor " + HandleText(handle) +
+                                                  " (a link index names a link of an Articulated actor), got " +
+                                                  std::to_string(link));
+        return false;
+      }
+      break;
+    case ActorType::Articulated: {
+      int const numLinks = static_cast<ArticulatedActor*>(actor)->GetNumLinks();
+      if (link < 0 || link >= numLinks) {
+        error.Set(ErrorCode::InvalidArgument, linkText + " must be a link of the Articulated actor " +
+                                                  HandleText(handle) + ", in [0, " + std::to_string(numLinks) +
+                                                  "), got " + std::to_string(link));
+        return false;
+      }
+      break;
+    }
+    default:
+      error.Set(ErrorCode::InvalidHandle, prefix + std::string(actorField) + ": actor " + HandleText(handle) +
+                                              " is a " + std::string(ToString(actor->GetType())) +
+                                              " actor, expected a Rigid actor or an Articulated actor's link");
+      return false;
+  }
+  body = {actor, link};
+  return true;
+}
+
+template <class Params>
+bool Scene::GetRigidPair(Params const& p, std::string_view paramsName, internal::RigidBodySlot& a,
+                         internal::RigidBodySlot& b, Error& error) const {
+  if (!GetRigidBody(p.actorA, p.linkA, paramsName, "actorA", "linkA", a, error) ||
+      !GetRigidBody(p.actorB, p.linkB, paramsName, "actorB", "linkB", b, error))
+    return false;
+  if (a.actor == b.actor) {
+    // two links of one articulated actor would close a loop in its tree:
+    // their paths share DoFs, which a constraint's DoF list cannot repeat
     error.Set(ErrorCode::InvalidArgument,
-              prefix + ".actorB must differ from actorA, both are " + HandleText(actorA));
+              std::string(paramsName) + ".actorB must differ from actorA, both are " + HandleText(p.actorA) +
+                  (a.link >= 0 ? " (a constraint between two links of one articulated actor, closing a loop, "
+                                 "is not supported)"
+                               : ""));
     return false;
   }
   return true;
@@ -329,8 +373,8 @@ Constraint* Scene::AddConstraint(std::unique_ptr<Constraint> constraint) {
 Constraint* Scene::CreateRigidSphericalJointConstraint(RigidSphericalJointConstraintParams const& p,
                                                        Error& error) {
   constexpr std::string_view kParams = "RigidSphericalJointConstraintParams";
-  RigidActor *a, *b;
-  if (!GetRigidPair(p.actorA, p.actorB, kParams, a, b, error) ||
+  internal::RigidBodySlot a, b;
+  if (!GetRigidPair(p, kParams, a, b, error) ||
       !CheckField(p.localPosA, kParams, "localPosA", error) ||
       !CheckField(p.localPosB, kParams, "localPosB", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
@@ -340,8 +384,8 @@ Constraint* Scene::CreateRigidSphericalJointConstraint(RigidSphericalJointConstr
 Constraint* Scene::CreateRigidPrismaticJointConstraint(RigidPrismaticJointConstraintParams const& p,
                                                        Error& error) {
   constexpr std::string_view kParams = "RigidPrismaticJointConstraintParams";
-  RigidActor *a, *b;
-  if (!GetRigidPair(p.actorA, p.actorB, kParams, a, b, error) ||
+  internal::RigidBodySlot a, b;
+  if (!GetRigidPair(p, kParams, a, b, error) ||
       !CheckField(p.jointFrame, kParams, "jointFrame", error) ||
       !CheckField(p.referenceOffset, kParams, "referenceOffset", error) ||
       !CheckLimits(p.lowerLimit, p.upperLimit, std::string(kParams) + ".lowerLimit/upperLimit", error) ||
@@ -353,8 +397,8 @@ Constraint* Scene::CreateRigidPrismaticJointConstraint(RigidPrismaticJointConstr
 Constraint* Scene::CreateJointRotationRangeConstraint(JointRotationRangeConstraintParams const& p,
                                                       Error& error) {
   constexpr std::string_view kParams = "JointRotationRangeConstraintParams";
-  RigidActor *a, *b;
-  if (!GetRigidPair(p.actorA, p.actorB, kParams, a, b, error) ||
+  internal::RigidBodySlot a, b;
+  if (!GetRigidPair(p, kParams, a, b, error) ||
       !CheckField(p.jointFrame, kParams, "jointFrame", error) ||
       !CheckField(p.referenceRotation, kParams, "referenceRotation", error) ||
       !CheckCompliance(p, kParams, error))
@@ -370,8 +414,8 @@ Constraint* Scene::CreateJointRotationRangeConstraint(JointRotationRangeConstrai
 Constraint* Scene::CreateJointRotationTrackingConstraint(
     JointRotationTrackingConstraintParams const& p, Error& error) {
   constexpr std::string_view kParams = "JointRotationTrackingConstraintParams";
-  RigidActor *a, *b;
-  if (!GetRigidPair(p.actorA, p.actorB, kParams, a, b, error) ||
+  internal::RigidBodySlot a, b;
+  if (!GetRigidPair(p, kParams, a, b, error) ||
       !CheckField(p.jointFrame, kParams, "jointFrame", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<JointRotationTrackingConstraint>(a, b, p));
@@ -380,8 +424,8 @@ Constraint* Scene::CreateJointRotationTrackingConstraint(
 Constraint* Scene::CreateRigidPivotPositionConstraint(RigidPivotPositionConstraintParams const& p,
                                                       Error& error) {
   constexpr std::string_view kParams = "RigidPivotPositionConstraintParams";
-  RigidActor* a = GetRigidActor(p.actor, std::string(kParams) + ".actor", error);
-  if (!a || !CheckField(p.localPos, kParams, "localPos", error) ||
+  internal::RigidBodySlot a;
+  if (!GetRigidBody(p.actor, p.link, kParams, "actor", "link", a, error) || !CheckField(p.localPos, kParams, "localPos", error) ||
       !CheckField(p.position, kParams, "position", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<RigidPivotPositionConstraint>(a, p));
@@ -390,8 +434,8 @@ Constraint* Scene::CreateRigidPivotPositionConstraint(RigidPivotPositionConstrai
 Constraint* Scene::CreateRigidPivotToRigidTargetConstraint(
     RigidPivotToRigidTargetConstraintParams const& p, Error& error) {
   constexpr std::string_view kParams = "RigidPivotToRigidTargetConstraintParams";
-  RigidActor* a = GetRigidActor(p.actor, std::string(kParams) + ".actor", error);
-  if (!a || !CheckField(p.localPos, kParams, "localPos", error) ||
+  internal::RigidBodySlot a;
+  if (!GetRigidBody(p.actor, p.link, kParams, "actor", "link", a, error) || !CheckField(p.localPos, kParams, "localPos", error) ||
       !CheckField(p.position, kParams, "position", error) ||
       !CheckField(p.rotation, kParams, "rotation", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
@@ -401,8 +445,8 @@ Constraint* Scene::CreateRigidPivotToRigidTargetConstraint(
 Constraint* Scene::CreateRigidPivotRotationConstraint(RigidPivotRotationConstraintParams const& p,
                                                       Error& error) {
   constexpr std::string_view kParams = "RigidPivotRotationConstraintParams";
-  RigidActor* a = GetRigidActor(p.actor, std::string(kParams) + ".actor", error);
-  if (!a || !CheckField(p.localRotation, kParams, "localRotation", error) ||
+  internal::RigidBodySlot a;
+  if (!GetRigidBody(p.actor, p.link, kParams, "actor", "link", a, error) || !CheckField(p.localRotation, kParams, "localRotation", error) ||
       !CheckField(p.rotation, kParams, "rotation", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<RigidPivotRotationConstraint>(a, p));
@@ -441,8 +485,8 @@ Constraint* Scene::CreateDeformableNodeToRigidConstraint(DeformableNodeToRigidCo
   NodalActor* d = GetDeformableNode(p.deformableActor, p.deformableNodeIndex, kParams,
                                          "deformableActor", "deformableNodeIndex", error);
   if (!d) return nullptr;
-  RigidActor* r = GetRigidActor(p.rigidActor, std::string(kParams) + ".rigidActor", error);
-  if (!r || !CheckField(p.localPos, kParams, "localPos", error) || !CheckCompliance(p, kParams, error))
+  internal::RigidBodySlot r;
+  if (!GetRigidBody(p.rigidActor, p.rigidLink, kParams, "rigidActor", "rigidLink", r, error) || !CheckField(p.localPos, kParams, "localPos", error) || !CheckCompliance(p, kParams, error))
     return nullptr;
   return AddConstraint(std::make_unique<DeformableNodeToRigidConstraint>(d, r, p));
 }
@@ -450,8 +494,8 @@ Constraint* Scene::CreateDeformableNodeToRigidConstraint(DeformableNodeToRigidCo
 Constraint* Scene::CreateRodElementRotationToRigidConstraint(
     RodElementRotationToRigidConstraintParams const& p, Error& error) {
   constexpr std::string_view kParams = "RodElementRotationToRigidConstraintParams";
-  RigidActor* r = GetRigidActor(p.rigidActor, std::string(kParams) + ".rigidActor", error);
-  if (!r) return nullptr;
+  internal::RigidBodySlot r;
+  if (!GetRigidBody(p.rigidActor, p.rigidLink, kParams, "rigidActor", "rigidLink", r, error)) return nullptr;
   RodActor* rod = GetActorAs<RodActor>(p.rodActor, std::string(kParams) + ".rodActor", error);
   if (!rod) return nullptr;
   if (p.elementIndex < 0 || p.elementIndex >= rod->GetNumElements()) {

@@ -196,9 +196,6 @@ class Scene {
   /// A live actor of type T for `handle`, or nullptr with `error` naming `field`.
   template <class T>
   T* GetActorAs(ActorHandle handle, std::string_view field, Error& error) const;
-  RigidActor* GetRigidActor(ActorHandle handle, std::string_view field, Error& error) const {
-    return GetActorAs<RigidActor>(handle, field, error);
-  }
   /// A live deformable or rod actor and a node index in range, or nullptr.
   NodalActor* GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
                                      std::string_view actorField, std::string_view nodeField,
@@ -208,9 +205,16 @@ class Scene {
   /// spherical or free), or nullptr with the error.
   ArticulatedActor* GetArticulatedJoint(ActorHandle handle, int joint, int dof, bool rotation,
                                         std::string_view paramsName, Error& error) const;
-  /// Two live, distinct rigid actors for `actorA`/`actorB` of `params`.
-  bool GetRigidPair(ActorHandle actorA, ActorHandle actorB, std::string_view paramsName,
-                    RigidActor*& a, RigidActor*& b, Error& error) const;
+  /// A rigid body for a constraint: a live rigid actor with `link` −1, or a
+  /// live articulated actor and a link of it; false with the error naming
+  /// `actorField` or `linkField` of `paramsName` otherwise.
+  bool GetRigidBody(ActorHandle handle, int link, std::string_view paramsName, std::string_view actorField,
+                    std::string_view linkField, internal::RigidBodySlot& body, Error& error) const;
+  /// Two rigid bodies (GetRigidBody) for actorA/linkA and actorB/linkB of
+  /// `params`, on different actors.
+  template <class Params>
+  bool GetRigidPair(Params const& p, std::string_view paramsName, internal::RigidBodySlot& a,
+                    internal::RigidBodySlot& b, Error& error) const;
   void OnTopologyChanged();
   /// One attempt at a step of dt as `substeps` equal sub-steps from the
   /// current (pre-step) state; on failure `failedSubstep` is the 1-based

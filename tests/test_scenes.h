@@ -193,4 +193,23 @@ inline Pendulum MakePendulum(SceneParams const& params, real mass, Real3 const& 
   return p;
 }
 
+/// Two uniform rods of length `length` and mass `mass` hinged about z, the
+/// first at the origin, end to end along +x (principal inertia 1e-4 about
+/// the rod, m L²/12 across it).
+inline ArticulatedActorParams TwoRevoluteLinks(real length, real mass) {
+  ArticulatedActorParams p;
+  for (int i = 0; i < 2; ++i) {
+    ArticulatedLinkParams link;
+    link.parent = i - 1;
+    link.joint = JointType::Revolute;
+    link.axis = Real3::UnitZ();
+    link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(length, 0, 0);
+    link.mass = mass;
+    link.inertia = Real3(1e-4, mass * length * length / 12, mass * length * length / 12);
+    link.centerOfMass = Real3(length / 2, 0, 0);
+    p.links.push_back(link);
+  }
+  return p;
+}
+
 }  // namespace superdex::test

@@ -60,9 +60,14 @@ struct ConstraintTestAccess {
     assembler.FinishAssembly();
   }
   /// Σᵢ wᵢ ∂²gᵢ/∂q² at the current configuration and target (n×n).
+  /// (Through Constraint::AddCurvature: on an articulated link, the type's
+  /// curvature mapped onto the joint DoFs.)
   static MatrixX Curvature(Constraint const& c, VectorX const& weights) {
+    ConstraintWorkspace ws;
+    ws.Reserve(c.GetDimension(), c.GetNumDofs());
+    c.Evaluate(c.target_, ws);
     MatrixX hessian = MatrixX::Zero(c.GetNumDofs(), c.GetNumDofs());
-    c.DoAddCurvature(c.target_, weights, hessian);
+    c.AddCurvature(c.target_, weights, ws, hessian);
     return hessian;
   }
   static CompliantParams const& Params(Constraint const& c) { return c.params_; }

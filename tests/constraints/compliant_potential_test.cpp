@@ -261,8 +261,10 @@ TEST_CASE("saturated elastic term: kappa(0) = 2k, dU/dx = k gbar rho'(x), force 
       REQUIRE(f.norm() <= k * s * (1 + 4 * kEps));
       real const kappa = internal::CompliantKappa(p, g.norm());
       REQUIRE(MaxScaledError(f, kappa * g) <= 4 * kEps);
-      // with g⁰ = g the damping term vanishes; the scale is κ + d/h = κ
-      REQUIRE(scale == kappa);
+      // with g⁰ = g the damping term vanishes; the scale is κ + d/h = κ, up to
+      // the rounding of ‖g‖ (Eigen may sum it in another order through a
+      // Ref than on a vector: one ulp of ‖g‖ moves κ = k ḡ/‖g‖ by one ulp)
+      REQUIRE(std::abs(scale - kappa) <= 4 * kEps * kappa);
     }
   }
 }

@@ -130,6 +130,13 @@ def test_bad_indices_in_params(scene, zoo):
         scene.create_articulated_single_dof_target_constraint(actor=zoo["arm"], joint_index=1)
     with raises(mochi.ErrorCode.InvalidArgument, "lowerLimit"):
         scene.create_articulated_single_dof_range_constraint(actor=zoo["arm"], lower_limit=1, upper_limit=0)
+    # an articulated link in a rigid type: in range on an articulated actor, -1 on a rigid one
+    with raises(mochi.ErrorCode.InvalidArgument, "RigidPivotPositionConstraintParams.link must be a link"):
+        scene.create_rigid_pivot_position_constraint(actor=zoo["arm"], link=2, stiffness=1)
+    with raises(mochi.ErrorCode.InvalidArgument, "RigidSphericalJointConstraintParams.linkA must be -1"):
+        scene.create_rigid_spherical_joint_constraint(actor_a=zoo["a"], link_a=0, actor_b=zoo["b"])
+    with raises(mochi.ErrorCode.InvalidArgument, "rigidLink must be a link"):
+        scene.create_deformable_node_to_rigid_constraint(deformable_actor=zoo["soft"], rigid_actor=zoo["arm"])
 
 
 def test_bad_dt_changes_nothing(scene):

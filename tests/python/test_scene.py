@@ -278,6 +278,29 @@ def test_articulated_pendulum_mass_matrix_and_motion():
     assert dense.get_joint_positions()[0] == pytest.approx(theta, abs=1e-12)
 
 
+def test_an_articulated_link_holds_a_rigid_body():
+    # a two-link revolute arm (rods of L = 0.5 m, 1 kg) released along +x
+    # holding a 0.5 kg ball at its tip by a stiff spherical joint on link 1
+    length = 0.5
+    scene = mochi.Scene.create(gravity=[0, -G, 0])
+    links = [mochi.ArticulatedLinkParams(parent=i - 1, joint=mochi.JointType.Revolute, axis=[0, 0, 1],
+                                         parent_to_joint_position=[0 if i == 0 else length, 0, 0],
+                                         center_of_mass=[length / 2, 0, 0]) for i in range(2)]
+    arm = scene.create_articulated_actor(links=links)
+    ball = scene.create_rigid_actor(mass=0.5, position=[2 * length, 0, 0])
+    joint = scene.create_rigid_spherical_joint_constraint(actor_a=arm, link_a=1, local_pos_a=[length, 0, 0],
+                                                          actor_b=ball, stiffness=1e7)
+    # the constraint's DoFs on the arm are both joints (the path to link 1)
+    assert list(joint.get_dof_indices_for_actor(0)) == [arm.get_dof_offset(), arm.get_dof_offset() + 1]
+    for _ in range(50):
+        scene.step(0.01)
+    # the ball stays at the tip: the joint's stretch under the ball's load
+    # (~m g/k plus the swing's centripetal load) is below 1e-5 m
+    assert np.linalg.norm(joint.get_deviation()) < 1e-5
+    assert ball.get_position()[1] < -0.5  # it swung down
+    assert not arm.is_solved_on_tree()  # the coupling puts the arm's block in the scene's matrix
+
+
 def test_articulated_targets_and_ranges_drive_a_spherical_joint():
     scene = mochi.Scene.create(gravity=[0, 0, 0])
     ball = scene.create_articulated_actor(links=[mochi.ArticulatedLinkParams(
@@ -387,7 +410,7 @@ def test_params_objects():
     assert isinstance(p.local_pos_a, np.ndarray) and p.local_pos_a.tolist() == [1, 2, 3]
     p.local_pos_a[1] = 5  # vector fields are views into the struct
     assert p.local_pos_a.tolist() == [1, 5, 3]
-    assert repr(p) == ("RigidSphericalJointConstraintParams(actor_a=ActorHandle(), actor_b=ActorHandle(), "
+    assert repr(p) == ("RigidSphericalJointConstraintParams(actor_a=ActorHandle(), actor_b=ActorHandle(), link_a=-1, link_b=-1, "
                        "local_pos_a=[1.0, 5.0, 3.0], local_pos_b=[0.0, 0.0, 0.0], stiffness=1000000.0, "
                        "damping=0.0, saturation=-1.0)")
     import copy

@@ -4,7 +4,7 @@
 // rigid bodies and joints converging to it as the joint stiffness grows
 // (error ∝ 1/k), and a floating-base chain in zero gravity conserving its
 // momenta.
-#include "test_support.h"
+#include "test_scenes.h"
 
 #include <array>
 #include <cmath>
@@ -56,21 +56,7 @@ PendulumState ReferenceAtEnd() {
   return s;
 }
 
-ArticulatedActorParams DoublePendulum() {
-  ArticulatedActorParams p;
-  for (int i = 0; i < 2; ++i) {
-    ArticulatedLinkParams link;
-    link.parent = i - 1;
-    link.joint = JointType::Revolute;
-    link.axis = Real3::UnitZ();
-    link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(kLength, 0, 0);
-    link.mass = kMass;
-    link.inertia = kRodPrincipalInertia;
-    link.centerOfMass = Real3(kLength / 2, 0, 0);
-    p.links.push_back(link);
-  }
-  return p;
-}
+ArticulatedActorParams DoublePendulum() { return TwoRevoluteLinks(kLength, kMass); }
 
 SceneParams Tight(IntegratorType integrator) {
   SceneParams params;

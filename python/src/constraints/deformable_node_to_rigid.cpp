@@ -12,7 +12,8 @@ void DefineDeformableNodeToRigid(py::module_& m) {
       "g = T_R(r) - T_D(X + u) (m = 3, n = 9). By default (fix_to_deformable_pos) r is computed "
       "at creation so the constraint starts at zero deviation.")
       .Field("deformable_actor", &P::deformableActor, "a deformable or rod actor")
-      .Field("rigid_actor", &P::rigidActor, "a rigid actor")
+      .Field("rigid_actor", &P::rigidActor, "a rigid actor, or an articulated actor with rigid_link")
+      .Field("rigid_link", &P::rigidLink, "the articulated actor\'s link acting as the rigid body (-1: a rigid actor)")
       .Field("deformable_node_index", &P::deformableNodeIndex, "node of the deformable actor")
       .Field("fix_to_deformable_pos", &P::fixToDeformablePos,
              "r from the node's position at creation (default True)")

@@ -12,6 +12,8 @@ void DefineJointRotationRange(py::module_& m) {
                  "violation (range type, m = 3, n = 6).")
       .Field("actor_a", &P::actorA, "a rigid actor")
       .Field("actor_b", &P::actorB, "a different rigid actor")
+      .Field("link_a", &P::linkA, "the link of an articulated actor_a acting as body A (-1: a rigid actor)")
+      .Field("link_b", &P::linkB, "the link of an articulated actor_b acting as body B (-1: a rigid actor)")
       .Field("joint_frame", &P::jointFrame, "joint frame R₀, world, at creation [w, x, y, z]")
       .Field("lower_limits", &P::lowerLimits,
              "l_j [rad], -inf for no bound; each <= the upper limit")

@@ -13,6 +13,8 @@ void DefineJointRotationTracking(py::module_& m) {
       "relative rotation and is changed with set_target_rotation.")
       .Field("actor_a", &P::actorA, "a rigid actor")
       .Field("actor_b", &P::actorB, "a different rigid actor")
+      .Field("link_a", &P::linkA, "the link of an articulated actor_a acting as body A (-1: a rigid actor)")
+      .Field("link_b", &P::linkB, "the link of an articulated actor_b acting as body B (-1: a rigid actor)")
       .Field("joint_frame", &P::jointFrame, "joint frame R₀, world, at creation [w, x, y, z]")
       .CompliantFields("[N·m/rad]", "[N·m·s/rad]", "[rad]");
 

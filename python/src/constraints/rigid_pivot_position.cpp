@@ -9,7 +9,8 @@ void DefineRigidPivotPosition(py::module_& m) {
   using P = RigidPivotPositionConstraintParams;
   ParamsClass<P>(m, "RigidPivotPositionConstraintParams",
                  "Pins a point of a rigid body to a kinematic target: g = T(r) - p̂ (m = 3, n = 6).")
-      .Field("actor", &P::actor, "a rigid actor")
+      .Field("actor", &P::actor, "a rigid actor, or an articulated actor with link")
+      .Field("link", &P::link, "the articulated actor\'s link acting as the body (-1: a rigid actor)")
       .Field("local_pos", &P::localPos, "pivot r in the body frame [m]")
       .Field("position", &P::position, "target p̂, world [m]")
       .CompliantFields("[N/m]", "[N·s/m]", "[m]");

@@ -9,7 +9,8 @@ void DefineRigidPivotRotation(py::module_& m) {
   using P = RigidPivotRotationConstraintParams;
   ParamsClass<P>(m, "RigidPivotRotationConstraintParams",
                  "g = Log(R R_ℓ R̂⁻¹) (m = 3, n = 3: the body's rotation DoFs).")
-      .Field("actor", &P::actor, "a rigid actor")
+      .Field("actor", &P::actor, "a rigid actor, or an articulated actor with link")
+      .Field("link", &P::link, "the articulated actor\'s link acting as the body (-1: a rigid actor)")
       .Field("local_rotation", &P::localRotation, "pivot frame R_ℓ in the body frame [w, x, y, z]")
       .Field("rotation", &P::rotation, "target R̂, world [w, x, y, z]")
       .CompliantFields("[N·m/rad]", "[N·m·s/rad]", "[rad]");

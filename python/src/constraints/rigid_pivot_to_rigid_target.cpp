@@ -10,7 +10,8 @@ void DefineRigidPivotToRigidTarget(py::module_& m) {
   ParamsClass<P>(
       m, "RigidPivotToRigidTargetConstraintParams",
       "g = T(r) - T̂(r) = t + R r - (t̂ + R̂ r) (m = 3, n = 6); T̂ set with set_target_transform.")
-      .Field("actor", &P::actor, "a rigid actor")
+      .Field("actor", &P::actor, "a rigid actor, or an articulated actor with link")
+      .Field("link", &P::link, "the articulated actor\'s link acting as the body (-1: a rigid actor)")
       .Field("local_pos", &P::localPos, "pivot r in the body frame [m]")
       .Field("position", &P::position, "target translation t̂, world [m]")
       .Field("rotation", &P::rotation, "target rotation R̂, world [w, x, y, z]")

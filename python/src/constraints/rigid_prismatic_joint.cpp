@@ -14,6 +14,8 @@ void DefineRigidPrismaticJoint(py::module_& m) {
       "JointRotationTracking); its limits are not reported by get_limit_min/max_values.")
       .Field("actor_a", &P::actorA, "a rigid actor")
       .Field("actor_b", &P::actorB, "a different rigid actor")
+      .Field("link_a", &P::linkA, "the link of an articulated actor_a acting as body A (-1: a rigid actor)")
+      .Field("link_b", &P::linkB, "the link of an articulated actor_b acting as body B (-1: a rigid actor)")
       .Field("joint_frame", &P::jointFrame,
              "joint frame, world, at creation [w, x, y, z]; z = sliding axis")
       .Field("offset_around_rest", &P::offsetAroundRest,

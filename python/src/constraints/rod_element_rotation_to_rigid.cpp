@@ -11,7 +11,8 @@ void DefineRodElementRotationToRigid(py::module_& m) {
       m, "RodElementRotationToRigidConstraintParams",
       "g = Log((R_R R̂ R₀)⁻¹ R_e R₀) (m = 3, n = 11: the body's 3 rotation DoFs, the element's "
       "8). The target starts as the creation-time relative rotation.")
-      .Field("rigid_actor", &P::rigidActor, "a rigid actor")
+      .Field("rigid_actor", &P::rigidActor, "a rigid actor, or an articulated actor with rigid_link")
+      .Field("rigid_link", &P::rigidLink, "the articulated actor\'s link acting as the rigid body (-1: a rigid actor)")
       .Field("rod_actor", &P::rodActor, "a rod actor")
       .Field("element_index", &P::elementIndex, "element e = (e, e+1) of the rod")
       .Field("joint_frame", &P::jointFrame, "R₀, world, at creation [w, x, y, z]")

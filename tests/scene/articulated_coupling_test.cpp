@@ -1,0 +1,204 @@
+// Articulated links coupled through the rigid constraint types, stepped by
+// the scene: a pendulum built as an articulated link held by a
+// RigidPivotPosition against the same body built as a RigidActor; an
+// articulated arm holding a rigid ball by a RigidSphericalJoint converging
+// as 1/k to the arm with the ball as a third link on a spherical joint; and
+// the constraints on links destroyed with their actor.
+#include "test_scenes.h"
+
+#include <cmath>
+#include <cstdio>
+
+using namespace superdex;
+using namespace superdex::test;
+
+namespace {
+
+SceneParams Tight() {
+  SceneParams params;
+  params.integrator = IntegratorType::BackwardEuler;
+  params.gravity = Real3(0, -9.81, 0);
+  params.newton.velocityTolerance = 1e-11;
+  return params;
+}
+
+}  // namespace
+
+TEST_CASE("a pendulum built as an articulated link held by a RigidPivotPosition moves as the same body built as "
+          "a RigidActor",
+          "[scene][articulated][rigid]") {
+  // one body, its link frame away from its centre of mass: mass 2 kg,
+  // principal inertia (0.05, 0.08, 0.11) kg·m², centre of mass c in the link
+  // frame, turned by R, pinned at r (link frame) to the world origin
+  real const mass = 2;
+  Real3 const inertia(0.05, 0.08, 0.11), com(0.1, -0.05, 0.02), pivot(0.05, 0.4, -0.03);
+  Quat const rotation(Eigen::AngleAxis<real>(0.8, Real3(0.2, 0.3, 1).normalized()));
+  Real3 const origin = -(rotation * pivot);  // the link frame's origin: the pivot at the world origin
+  real const k = 1e5;
+
+  auto rigidScene = MakeScene(Tight());
+  RigidActorParams body;
+  body.mass = mass;
+  body.inertia = inertia;
+  body.position = origin + rotation * com;  // a rigid actor's frame is its centre of mass
+  body.rotation = rotation;
+  RigidActor* rigid = MakeRigid(*rigidScene, body);
+  Error error;
+  RigidPivotPositionConstraintParams pin;
+  pin.actor = rigid->GetHandle();
+  pin.localPos = pivot - com;
+  pin.stiffness = k;
+  REQUIRE(rigidScene->CreateRigidPivotPositionConstraint(pin, error));
+
+  // the same body as the free root link of an articulated actor
+  auto treeScene = MakeScene(Tight());
+  ArticulatedActorParams tree;
+  ArticulatedLinkParams link;
+  link.parent = -1;
+  link.joint = JointType::Free;
+  link.mass = mass;
+  link.inertia = inertia;
+  link.centerOfMass = com;
+  Real3 const start = origin;
+  Real3 const turn = Eigen::AngleAxis<real>(rotation).angle() * Eigen::AngleAxis<real>(rotation).axis();
+  link.initialPosition = {start.x(), start.y(), start.z(), turn.x(), turn.y(), turn.z()};
+  tree.links.push_back(link);
+  ArticulatedActor* articulated = treeScene->CreateArticulatedActor(tree, error);
+  INFO(error.ToString());
+  REQUIRE(articulated);
+  int const l = 0;
+  pin.actor = articulated->GetHandle();
+  pin.link = l;
+  pin.localPos = pivot;
+  REQUIRE(treeScene->CreateRigidPivotPositionConstraint(pin, error));
+  REQUIRE((articulated->GetLinkCenterOfMass(l) - rigid->GetPosition()).norm() <= 1e-15);
+
+  // 1 s at dt = 1/100: a swing of ~0.8 rad
+  real worstPosition = 0, worstRotation = 0;
+  for (int step = 0; step < 100; ++step) {
+    StepOk(*rigidScene, 0.01);
+    StepOk(*treeScene, 0.01);
+    worstPosition = std::max(worstPosition, (articulated->GetLinkCenterOfMass(l) - rigid->GetPosition()).norm());
+    worstRotation =
+        std::max(worstRotation, articulated->GetLinkRotation(l).angularDistance(rigid->GetRotation()));
+  }
+  // a single joint group: the tree recursion solves the actor
+  REQUIRE(articulated->IsSolvedOnTree());
+  std::printf("pendulum on a free link vs a rigid actor, 1 s at dt = 1/100: largest difference %.2e m, %.2e rad\n",
+              worstPosition, worstRotation);
+  REQUIRE(rigid->GetPosition().norm() > 0.1);
+  // the same incremental potential in two sets of coordinates (a rigid
+  // body's world increments, a free joint's local ones): both stages solved
+  // to the tight tolerance (velocity 1e-11 m/s), the trajectories agree to a
+  // small multiple of it over 100 steps
+  REQUIRE(worstPosition <= 1e-8);
+  REQUIRE(worstRotation <= 1e-8);
+}
+
+namespace {
+
+// two uniform rods of length L hinged about z, released along +x, and a ball
+// of mass m_b at the tip of the second
+constexpr real kLength = 0.5, kRodMass = 1.0, kBallMass = 0.5;
+Real3 const kBallInertia(0.004, 0.005, 0.006);
+
+ArticulatedActorParams Arm(bool withBall) {
+  ArticulatedActorParams p = TwoRevoluteLinks(kLength, kRodMass);
+  if (withBall) {
+    ArticulatedLinkParams ball;
+    ball.parent = 1;
+    ball.joint = JointType::Spherical;
+    ball.parentToJointPosition = Real3(kLength, 0, 0);
+    ball.mass = kBallMass;
+    ball.inertia = kBallInertia;
+    p.links.push_back(ball);
+  }
+  return p;
+}
+
+/// A rigid ball at the arm's tip held by a RigidSphericalJoint of stiffness
+/// k on link 1.
+Constraint* HoldBall(Scene& scene, ArticulatedActor& arm, RigidActor& ball, real k) {
+  RigidSphericalJointConstraintParams joint;
+  joint.actorA = arm.GetHandle();
+  joint.linkA = 1;
+  joint.localPosA = Real3(kLength, 0, 0);
+  joint.actorB = ball.GetHandle();
+  joint.stiffness = k;
+  Error error;
+  Constraint* c = scene.CreateRigidSphericalJointConstraint(joint, error);
+  INFO(error.ToString());
+  REQUIRE(c);
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("an articulated arm holding a rigid ball by a RigidSphericalJoint on its link converges as 1/k to the "
+          "ball as a third link",
+          "[scene][articulated][rigid]") {
+  real const dt = 1.0 / 400, endTime = 0.5;
+  int const steps = static_cast<int>(std::lround(endTime / dt));
+  Error error;
+  auto referenceScene = MakeScene(Tight());
+  ArticulatedActor* reference = referenceScene->CreateArticulatedActor(Arm(true), error);
+  REQUIRE(reference);
+  StepOk(*referenceScene, dt, steps);
+  Real3 const expected = reference->GetLinkCenterOfMass(2);
+  std::printf("arm + rigid ball on a RigidSphericalJoint vs the ball as a spherical link, t = %.1f s, dt = 1/400:\n",
+              endTime);
+  DynamicArray<real> stiffnesses, errors;
+  for (real k : {1e4, 1e5, 1e6, 1e7}) {
+    auto scene = MakeScene(Tight());
+    ArticulatedActor* arm = scene->CreateArticulatedActor(Arm(false), error);
+    REQUIRE(arm);
+    RigidActorParams body;
+    body.mass = kBallMass;
+    body.inertia = kBallInertia;
+    body.position = Real3(2 * kLength, 0, 0);
+    RigidActor* ball = MakeRigid(*scene, body);
+    HoldBall(*scene, *arm, *ball, k);
+    StepOk(*scene, dt, steps);
+    // the joint couples the arm with another actor: the dense block
+    REQUIRE_FALSE(arm->IsSolvedOnTree());
+    real const e = (ball->GetPosition() - expected).norm();
+    stiffnesses.push_back(k);
+    errors.push_back(e);
+    std::printf("  k = %.0e N/m: ball position error %.3e m\n", k, e);
+  }
+  real const power = FitOrder(stiffnesses, errors);
+  std::printf("  fitted power of k: %.3f\n", power);
+  CAPTURE(power);
+  REQUIRE(expected.norm() > 0.5);
+  // error ∝ 1/k over three decades (the compliant joint's stretch under the
+  // ball's load), the stiffest within 1e-5 m of the rigid answer
+  REQUIRE(std::abs(power + 1) <= 0.15);
+  REQUIRE(errors.back() <= 1e-5);
+}
+
+TEST_CASE("constraints on an articulated actor's links are destroyed with it", "[scene][articulated]") {
+  auto scene = MakeScene(Tight());
+  Error error;
+  ArticulatedActor* arm = scene->CreateArticulatedActor(Arm(false), error);
+  REQUIRE(arm);
+  RigidActorParams body;
+  body.position = Real3(2 * kLength, 0, 0);
+  RigidActor* ball = MakeRigid(*scene, body);
+  Constraint* held = HoldBall(*scene, *arm, *ball, 1e5);
+  RigidPivotPositionConstraintParams pin;
+  pin.actor = arm->GetHandle();
+  pin.link = 0;
+  pin.stiffness = 1e5;
+  Constraint* pinned = scene->CreateRigidPivotPositionConstraint(pin, error);
+  REQUIRE(pinned);
+  ConstraintHandle const heldHandle = held->GetHandle(), pinnedHandle = pinned->GetHandle();
+  StepOk(*scene, 0.01, 3);
+  REQUIRE(scene->DestroyActor(arm->GetHandle(), error));
+  REQUIRE(scene->GetConstraint(heldHandle) == nullptr);
+  REQUIRE(scene->GetConstraint(pinnedHandle) == nullptr);
+  REQUIRE(scene->GetNumConstraints() == 0);
+  // the ball falls freely now
+  real const y = ball->GetPosition().y();
+  StepOk(*scene, 0.01, 3);
+  REQUIRE(ball->GetPosition().y() < y);
+}
