@@ -41,17 +41,17 @@
 // with `projectHessian` only the PSD part w·M(q) + armature + damping is
 // kept.
 //
-// Solving. With ArticulatedBlockSolve::Tree the actor's Newton block is not
-// formed: its Hessian has the structure H_ab = s_aᵀ Y_c s_b (a in an
-// ancestor of b's joint c, Y a subtree sum), which
+// Solving. With ArticulatedBlockSolve::Tree (the default) the actor's Newton
+// block is not formed: its Hessian has the structure H_ab = s_aᵀ Y_c s_b (a
+// in an ancestor of b's joint c, Y a subtree sum), which
 // internal::ArticulatedTreeSolver factorizes and solves in O(N) per Newton
 // iteration; the scene's matrix holds only each joint's diagonal block, where
-// the actor's joint constraints add theirs. ArticulatedBlockSolve::Dense (the
-// default for now: the tree's projected fallback still fails on long falling
-// chains) assembles the dense block into the scene's matrix (O(N²) assembly,
-// O(N³) factorization); across MPI ranks, and
-// where a constraint couples two joints or the actor with other actors, the
-// dense block is used. docs/articulated.md, "Solving on the tree".
+// the actor's joint constraints add theirs. ArticulatedBlockSolve::Dense
+// assembles the dense block into the scene's matrix (O(N²) assembly, O(N³)
+// factorization); across MPI ranks, and where a constraint couples two
+// joints or the actor with other actors (a link as a rigid body of a rigid
+// constraint type: GetLinkPath), the dense block is used.
+// docs/articulated.md, "Solving on the tree" and "Links in constraints".
 #pragma once
 
 #include <Eigen/Cholesky>
