@@ -237,3 +237,59 @@ TEST_CASE("steps with the near-rigid cap allocate nothing", "[scene][allocation]
   REQUIRE(scene.GetStats().nearRigidConstraints > 0);
   RequireStepsAllocateNothing(scene, 1e-2, 10);
 }
+
+TEST_CASE("steps with constraints on articulated links allocate nothing", "[scene][allocation][articulated]") {
+  // the 40-link chain's tip link holding a rigid ball (RigidSphericalJoint,
+  // JointRotationTracking with the geometric stiffness) and a tet block's
+  // node (DeformableNodeToRigid): each constraint's link frame, its J and
+  // curvature mapped onto the 120 path DoFs, on the dense block (projected:
+  // see above for CHOLMOD's message on an indefinite first iteration)
+  SceneParams params;
+  params.integrator = IntegratorType::Bdf2;
+  params.newton.hessianProjection = HessianProjection::Always;
+  params.newton.constraintHessian = ConstraintHessian::GeometricStiffness;
+  auto scene = MakeScene(params);
+  ArticulatedActorParams chain;
+  int const n = 40;
+  for (int i = 0; i < n; ++i) {
+    ArticulatedLinkParams link;
+    link.parent = i - 1;
+    link.joint = JointType::Spherical;
+    link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(0.1, 0, 0);
+    link.inertia = Real3(1e-4, 1e-3, 1e-3);
+    link.centerOfMass = Real3(0.05, 0, 0);
+    chain.links.push_back(link);
+  }
+  Error error;
+  ArticulatedActor* actor = scene->CreateArticulatedActor(chain, error);
+  REQUIRE(actor);
+  RigidActorParams body;
+  body.position = Real3(0.1 * n, 0, 0);
+  RigidActor* ball = MakeRigid(*scene, body);
+  RigidSphericalJointConstraintParams joint;
+  joint.actorA = actor->GetHandle();
+  joint.linkA = n - 1;
+  joint.localPosA = Real3(0.1, 0, 0);
+  joint.actorB = ball->GetHandle();
+  joint.stiffness = 1e5;
+  REQUIRE(scene->CreateRigidSphericalJointConstraint(joint, error));
+  JointRotationTrackingConstraintParams weld;
+  weld.actorA = actor->GetHandle();
+  weld.linkA = n - 1;
+  weld.actorB = ball->GetHandle();
+  weld.stiffness = 1e3;
+  REQUIRE(scene->CreateJointRotationTrackingConstraint(weld, error));
+  DeformableActor* block = MakeBox(*scene, Real3(0.1 * n + 0.2, -0.05, -0.05), Real3(0.1, 0.1, 0.1), {1, 1, 1},
+                                   DeformableActorParams{});
+  DeformableNodeToRigidConstraintParams hold;
+  hold.deformableActor = block->GetHandle();
+  hold.rigidActor = actor->GetHandle();
+  hold.rigidLink = n - 1;
+  hold.stiffness = 1e4;
+  Constraint* held = scene->CreateDeformableNodeToRigidConstraint(hold, error);
+  REQUIRE(held);
+  REQUIRE(held->RegisterQuery(QueryType::ConstraintForce, error));
+  StepOk(*scene, 1e-2, 2);
+  REQUIRE_FALSE(actor->IsSolvedOnTree());
+  RequireStepsAllocateNothing(*scene, 1e-2, 10);
+}
