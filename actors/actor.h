@@ -12,6 +12,8 @@
 namespace superdex {
 
 class Scene;
+class Constraint;
+enum class ConstraintHessian;
 
 enum class ActorType { Rigid, Deformable, Rod, Articulated };
 
@@ -154,6 +156,15 @@ class Actor {
   /// delta ← (own block)⁻¹ rhs on the actor's DoFs (global vectors), with
   /// the last FactorizeOwnBlock.
   virtual void SolveOwnBlock(Span<real const> /*rhs*/, Span<real> /*delta*/) {}
+  /// A constraint whose only body is a part of this actor (an articulated
+  /// link) taken into the actor's own block (SolvesOwnBlock actors): the
+  /// actor then assembles it, and the scene's matrix holds no block of it.
+  /// False where the actor cannot take it. Set by the stage solver at each
+  /// pattern build, after ClearFoldedConstraints.
+  virtual bool FoldConstraint(Constraint* /*constraint*/) { return false; }
+  virtual void ClearFoldedConstraints() {}
+  /// The scene's constraint Hessian for the folded constraints (each stage).
+  virtual void SetFoldedConstraintHessian(ConstraintHessian /*hessian*/) {}
 
   /// Saves the current iterate; RestoreIterate returns to it (line search).
   virtual void SaveIterate() = 0;

@@ -617,7 +617,7 @@ real ArticulatedActor::Energy(internal::OwnedContributors owned) const {
   return energy;
 }
 
-void ArticulatedActor::ComputeGradientAndTreeTerms() const {
+void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
   using internal::ArticulatedTreeSolver;
   ComputeKinematics(state_.joints, kinematics_);
   Kinematics const& k = kinematics_;
@@ -667,6 +667,9 @@ void ArticulatedActor::ComputeGradientAndTreeTerms() const {
     for (int c = links_[i].dofStart; c < links_[i].dofStart + links_[i].numDofs; ++c)
       out[c] += localMotion_.col(c).head<3>().dot(wrenchMoment_[i]) +
                 localMotion_.col(c).tail<3>().dot(wrenchForce_[i]);
+  // single-body constraints on links folded into the tree: a wrench and a
+  // stiffness at the link, as the links' inertia terms
+  for (Constraint const* constraint : folded_) AddFoldedConstraint(*constraint, projectHessian);
 
   // each joint's extra block E_c = H_cc − sym(S_cᵀ Y_c S_c) (the tree
   // solver's jointExtras): H_cc is the composite-rigid-body part S_cᵀ K S_c
@@ -746,7 +749,7 @@ void ArticulatedActor::ComputeGradientAndTreeTerms() const {
 void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
                                              int firstContributor, bool projectHessian) const {
   if (!assembler.Evaluates(firstContributor)) return;
-  ComputeGradientAndTreeTerms();
+  ComputeGradientAndTreeTerms(projectHessian);
   int const numLinks = GetNumLinks();
   if (SolvesOwnBlock()) {
     // one contributor per joint: its gradient and diagonal block; the rest of
@@ -804,6 +807,47 @@ void ArticulatedActor::SizeDenseBlock() const {
   modifiedFactor_.compute(MatrixX::Identity(numDofs_, numDofs_));
   modifiedColumn_ = VectorX::Zero(numDofs_);
   modifiedOrder_.assign(numDofs_, 0);
+}
+
+bool ArticulatedActor::FoldConstraint(Constraint* constraint) {
+  if (!SolvesOwnBlock() || !constraint->IsFoldableIntoLink() || constraint->GetActor(0) != this) return false;
+  folded_.push_back(constraint);
+  foldedMaxDimension_ = std::max(foldedMaxDimension_, constraint->GetDimension());
+  foldedMaxDofs_ = std::max(foldedMaxDofs_, constraint->GetNumDofs());
+  foldedWorkspace_.Reserve(foldedMaxDimension_, foldedMaxDofs_);
+  return true;
+}
+
+void ArticulatedActor::AddFoldedConstraint(Constraint const& constraint, bool projectHessian) const {
+  Matrix6 hessian;
+  Vector6 wrench;
+  internal::ConstraintWorkspace& ws = foldedWorkspace_;
+  if (!constraint.AddFoldedTerms(stage_.duration, foldedSceneHessian_, projectHessian, ws, hessian, wrench))
+    return;
+  // the gradient Jᵀ f on the path's DoFs
+  Span<int const> const dofs = constraint.GetDofIndicesForActor(0);
+  for (std::size_t j = 0; j < dofs.size(); ++j) gradient_[dofs[j] - dofOffset_] += ws.r[static_cast<Eigen::Index>(j)];
+  // the stiffness about o_L: the link frame's increments (δt; δθ) of the
+  // tree's motion (ω; v at o_L) are T (ω; v), T = [[−[r]×, I], [I, 0]],
+  // r = t − o_L
+  int const link = constraint.links_[0];
+  Real3 const r = kinematics_.linkPosition[link] - kinematics_.jointOrigin[link];
+  Matrix6 t = Matrix6::Zero();
+  t.topLeftCorner<3, 3>() = -Hat(r);
+  t.topRightCorner<3, 3>().setIdentity();
+  t.bottomLeftCorner<3, 3>().setIdentity();
+  own_[link].noalias() += t.transpose() * hessian * t;
+  if (wrench.isZero()) return;
+  // the link frame's own curvature against the wrench (F at t, pure moment
+  // M): own_ as the links' inertia wrenches, and the subtree sums the
+  // joints' blocks E_c read, along the path
+  Real3 const force = wrench.head<3>(), moment = wrench.tail<3>();
+  own_[link] += Curvature(r * force.transpose(), force, moment);
+  for (int j = link; j >= 0; j = links_[j].parent) {
+    forceMoment_[j] += (kinematics_.linkPosition[link] - kinematics_.jointOrigin[j]) * force.transpose();
+    wrenchForce_[j] += force;
+    torqueSum_[j] += moment;
+  }
 }
 
 internal::ArticulatedTreeSolver::System ArticulatedActor::TreeSystem() const {

@@ -46,11 +46,13 @@
 // in an ancestor of b's joint c, Y a subtree sum), which
 // internal::ArticulatedTreeSolver factorizes and solves in O(N) per Newton
 // iteration; the scene's matrix holds only each joint's diagonal block, where
-// the actor's joint constraints add theirs. ArticulatedBlockSolve::Dense
-// assembles the dense block into the scene's matrix (O(N²) assembly, O(N³)
-// factorization); across MPI ranks, and where a constraint couples two
-// joints or the actor with other actors (a link as a rigid body of a rigid
-// constraint type: GetLinkPath), the dense block is used.
+// the actor's joint constraints add theirs, and single-body constraints on
+// its links (GetLinkPath) are folded in as wrenches and stiffnesses at the
+// links (FoldConstraint). ArticulatedBlockSolve::Dense assembles the dense
+// block into the scene's matrix (O(N²) assembly, O(N³) factorization);
+// across MPI ranks, and where a constraint couples two joints or the actor
+// with other actors (a link as a body of a two-body type), the dense block
+// is used.
 // docs/articulated.md, "Solving on the tree" and "Links in constraints".
 #pragma once
 
@@ -61,6 +63,7 @@
 
 #include <superdex/actors/actor.h>
 #include <superdex/actors/rigid_inertia.h>
+#include <superdex/constraints/constraint.h>
 #include <superdex/core/error.h>
 #include <superdex/scene/integrator.h>
 
@@ -224,6 +227,9 @@ class ArticulatedActor final : public Actor {
   bool FactorizeOwnBlock(internal::HessianAssembler& assembler, int firstContributor, bool projectHessian,
                          std::string& reason) override;
   void SolveOwnBlock(Span<real const> rhs, Span<real> delta) override;
+  bool FoldConstraint(Constraint* constraint) override;
+  void ClearFoldedConstraints() override { folded_.clear(); }
+  void SetFoldedConstraintHessian(ConstraintHessian hessian) override { foldedSceneHessian_ = hessian; }
   void SaveIterate() override;
   void RestoreIterate() override;
   void ApplyIncrementFromSaved(Span<real const> delta, real alpha) override;
@@ -281,7 +287,11 @@ class ArticulatedActor final : public Actor {
   /// subtrees, composite_ (Y_c) and the wrench sums; jointBlocks_ (each
   /// joint's E_c = H_cc − sym(S_cᵀ Y_c S_c), the joint-space terms included)
   /// and gradient_.
-  void ComputeGradientAndTreeTerms() const;
+  void ComputeGradientAndTreeTerms(bool projectHessian) const;
+  /// A folded constraint's terms: Jᵀ f into gradient_, its stiffness at its
+  /// link into own_, its curvature wrench into own_ and the subtree sums
+  /// along the link's path (before the joints' blocks E_c are formed).
+  void AddFoldedConstraint(Constraint const& constraint, bool projectHessian) const;
   internal::ArticulatedTreeSolver::System TreeSystem() const;
   void SizeDenseBlock() const;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> own_, jointBlocks_;
@@ -293,6 +303,12 @@ class ArticulatedActor final : public Actor {
   mutable Eigen::Matrix<real, 6, Eigen::Dynamic> localMotion_;
   mutable DynamicArray<Real3> shift_;
   internal::ArticulatedTreeSolver treeSolver_;
+  /// single-body constraints on links taken into the tree (FoldConstraint),
+  /// their workspace (sized when folded) and the scene's constraint Hessian
+  DynamicArray<Constraint*> folded_;
+  mutable internal::ConstraintWorkspace foldedWorkspace_;
+  int foldedMaxDimension_ = 1, foldedMaxDofs_ = 1;
+  ConstraintHessian foldedSceneHessian_ = ConstraintHessian::GeometricStiffness;
   long modifiedTreeFactorizations_ = 0;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> composite_;
   mutable DynamicArray<Real3> wrenchForce_, wrenchMoment_, torqueSum_;

@@ -444,13 +444,11 @@ real Constraint::Energy(real h, internal::ConstraintWorkspace& ws) const {
   return internal::CompliantEnergy(stageParams_, g, stageStartValue_, h);
 }
 
-void Constraint::AddGradientAndHessian(real h, internal::HessianAssembler& assembler, int contributor,
-                                       ConstraintHessian sceneHessian, bool projectHessian,
-                                       internal::ConstraintWorkspace& ws) const {
+real Constraint::Linearize(real h, internal::ConstraintWorkspace& ws) const {
   Evaluate(target_, ws);
   int const m = dimension_, n = static_cast<int>(dofs_.size());
   auto const g = ws.g.head(m);
-  if (isRange_ && internal::IsRangeInactive(g, stageStartValue_)) return;
+  if (isRange_ && internal::IsRangeInactive(g, stageStartValue_)) return -1;
   auto const jacobian = ws.jacobian.topLeftCorner(m, n);
   // range types are piecewise in q (one-sided): their curvature keeps f(g)
   // and they take no part in second-order corrections
@@ -462,23 +460,35 @@ void Constraint::AddGradientAndHessian(real h, internal::HessianAssembler& assem
   real const scale =
       internal::CompliantForceCoefficients(stageParams_, g, stageStartValue_, h, ws.f.head(m));
   ws.r.head(n).noalias() = jacobian.transpose() * ws.f.head(m);
+  return scale;
+}
+
+Eigen::Ref<VectorX const> Constraint::CurvatureWeights(internal::ConstraintWorkspace const& ws) const {
+  // G = Σᵢ f̂ᵢ ∂²gᵢ/∂q², the joint forces' geometric stiffness. After the
+  // first step of a stage f̂ is the linearized constraint's force, not f(g):
+  // a step along a curved constraint manifold leaves g with a second-order
+  // error that a stiff k turns into a large, spurious force (and an
+  // indefinite G); f̂ is the estimate a primal–dual Newton method carries.
+  if (forceEstimateValid_) return forceEstimate_;
+  return ws.f.head(dimension_);
+}
+
+void Constraint::AddGradientAndHessian(real h, internal::HessianAssembler& assembler, int contributor,
+                                       ConstraintHessian sceneHessian, bool projectHessian,
+                                       internal::ConstraintWorkspace& ws) const {
+  real const scale = Linearize(h, ws);
+  if (scale < 0) return;
+  int const m = dimension_, n = static_cast<int>(dofs_.size());
+  auto const jacobian = ws.jacobian.topLeftCorner(m, n);
   assembler.AddGradient(contributor, ws.r.head(n));
   auto hessian = ws.hessian.topLeftCorner(n, n);
   hessian.noalias() = scale * jacobian.transpose() * jacobian;
 
   ConstraintHessian const mode = hessian_ == ConstraintHessian::SceneDefault ? sceneHessian : hessian_;
   if (hasCurvature_ && mode != ConstraintHessian::GaussNewton) {
-    // G = Σᵢ f̂ᵢ ∂²gᵢ/∂q², the joint forces' geometric stiffness. After the
-    // first step of a stage f̂ is the linearized constraint's force, not f(g):
-    // a step along a curved constraint manifold leaves g with a second-order
-    // error that a stiff k turns into a large, spurious force (and an
-    // indefinite G); f̂ is the estimate a primal–dual Newton method carries.
     auto curvature = ws.curvature.topLeftCorner(n, n);
     curvature.setZero();
-    if (forceEstimateValid_)
-      AddCurvature(target_, forceEstimate_, ws, curvature);
-    else
-      AddCurvature(target_, ws.f.head(m), ws, curvature);
+    AddCurvature(target_, CurvatureWeights(ws), ws, curvature);
     if (projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal) {
       // PSD: G replaced by the diagonal of its column norms (Andrews et al.)
       for (int j = 0; j < n; ++j) hessian(j, j) += curvature.col(j).norm();
@@ -487,6 +497,38 @@ void Constraint::AddGradientAndHessian(real h, internal::HessianAssembler& assem
     }
   }
   assembler.AddBlock(contributor, hessian);
+}
+
+bool Constraint::AddFoldedTerms(real h, ConstraintHessian sceneHessian, bool projectHessian,
+                                internal::ConstraintWorkspace& ws, Eigen::Matrix<real, 6, 6>& hessian,
+                                Eigen::Matrix<real, 6, 1>& curvatureWrench) const {
+  hessian.setZero();
+  curvatureWrench.setZero();
+  real const scale = Linearize(h, ws);
+  if (scale < 0) return false;
+  // the type's Hessian over its rigid DoFs on the link, embedded in the six
+  int const m = dimension_, k = typeNumDofs_;
+  auto const typeJacobian = ws.typeJacobian.topLeftCorner(m, k);
+  ws.typeCurvature.setZero(k, k);
+  ws.typeCurvature.noalias() = scale * typeJacobian.transpose() * typeJacobian;
+  ConstraintHessian const mode = hessian_ == ConstraintHessian::SceneDefault ? sceneHessian : hessian_;
+  DynamicArray<int> const& rigid = typeDofs_[0];
+  if (hasCurvature_ && mode != ConstraintHessian::GaussNewton) {
+    Eigen::Ref<VectorX const> const weights = CurvatureWeights(ws);
+    // (ws.curvature's corner: the type's curvature over its rigid DoFs)
+    auto curvature = ws.curvature.topLeftCorner(k, k);
+    curvature.setZero();
+    DoAddCurvature(target_, weights, curvature);
+    if (projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal) {
+      for (int j = 0; j < k; ++j) ws.typeCurvature(j, j) += curvature.col(j).norm();
+    } else {
+      ws.typeCurvature += curvature;
+      for (int c = 0; c < k; ++c) curvatureWrench[rigid[c]] = typeJacobian.col(c).dot(weights);
+    }
+  }
+  for (int a = 0; a < k; ++a)
+    for (int b = 0; b < k; ++b) hessian(rigid[a], rigid[b]) = ws.typeCurvature(a, b);
+  return true;
 }
 
 void Constraint::AddLinearizedChange(Span<real const> delta, real alpha, Eigen::Ref<VectorX> g) const {

@@ -23,6 +23,7 @@
 namespace superdex {
 
 class Actor;
+class ArticulatedActor;
 class Scene;
 
 enum class ConstraintType {
@@ -249,6 +250,7 @@ class Constraint {
 
  private:
   friend class Scene;
+  friend class ArticulatedActor;
   friend class internal::StageSolver;
   friend struct internal::ConstraintTestAccess;
 
@@ -269,6 +271,29 @@ class Constraint {
   void AddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
                     internal::ConstraintWorkspace& ws, Eigen::Ref<MatrixX> hessian) const;
   bool HasLinks() const { return links_[0] >= 0 || links_[1] >= 0; }
+  /// True for a constraint whose only body is an articulated link: the
+  /// actor's tree recursion can take it (AddFoldedTerms).
+  bool IsFoldableIntoLink() const { return numActors_ == 1 && links_[0] >= 0; }
+  /// Newton's linearization at the current iterate, recorded for the force
+  /// predictions: ws.g, ws.jacobian (Evaluate), ws.f = f(g) and ws.r = Jᵀ f;
+  /// returns the Gauss–Newton scale κ + d/h, or −1 for an inactive range
+  /// constraint (nothing recorded, nothing to add).
+  real Linearize(real h, internal::ConstraintWorkspace& ws) const;
+  /// The weights of the curvature G: the force estimate f̂ once this stage
+  /// has one, else f(g) (ws.f, after Linearize).
+  Eigen::Ref<VectorX const> CurvatureWeights(internal::ConstraintWorkspace const& ws) const;
+  /// A constraint folded into its articulated actor's tree (IsFoldableIntoLink;
+  /// the actor calls this in its assembly instead of the scene's constraint
+  /// loop): the gradient Jᵀ f over the constraint's DoFs in ws.r, and, over
+  /// the link frame's increments (δt; δθ), the Hessian H = (κ + d/h) J_typeᵀ
+  /// J_type + G_type (G's diagonal column norms when projecting or with
+  /// GeometricStiffnessDiagonal; none for GaussNewton) in `hessian` and the
+  /// wrench (F; M) = J_typeᵀ w that weighs the link frame's own curvature in
+  /// `curvatureWrench` (zero where G is not used exactly). Returns false when
+  /// it adds nothing (an inactive range constraint).
+  bool AddFoldedTerms(real h, ConstraintHessian sceneHessian, bool projectHessian,
+                      internal::ConstraintWorkspace& ws, Eigen::Matrix<real, 6, 6>& hessian,
+                      Eigen::Matrix<real, 6, 1>& curvatureWrench) const;
 
   // stage interface
   /// Records g(qᵢ⁰, p̂ᵢ⁰) and this stage's compliant parameters: with
@@ -325,6 +350,9 @@ class Constraint {
   std::array<DynamicArray<int>, 2> typeDofs_;
   mutable std::array<internal::LinkPath, 2> paths_;
   int typeNumDofs_ = 0;
+  /// the actor whose tree takes this constraint (StageSolver::
+  /// ChooseOwnBlockSolves), or nullptr: assembled by the scene
+  Actor* foldedInto_ = nullptr;
   internal::CompliantParams params_;
   internal::CompliantParams stageParams_;  ///< params_, or its near-rigid cap, for this stage
   bool nearRigidCapped_ = false;

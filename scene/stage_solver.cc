@@ -74,7 +74,11 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   int maxDimension = 1, maxDofs = 1;
   for (Constraint* constraint : constraints) {
     firstContributor.push_back(static_cast<int>(contributorDofs.size()));
-    contributorDofs.emplace_back(constraint->dofs_);
+    // a folded constraint's terms reach the matrix through its actor
+    if (constraint->foldedInto_ != nullptr)
+      contributorDofs.emplace_back();
+    else
+      contributorDofs.emplace_back(constraint->dofs_);
     maxDimension = std::max(maxDimension, constraint->GetDimension());
     maxDofs = std::max(maxDofs, constraint->GetNumDofs());
   }
@@ -130,12 +134,23 @@ void StageSolver::ChooseOwnBlockSolves(DynamicArray<Actor*> const& actors,
                                        DynamicArray<Constraint*> const& constraints) const {
   // in one process, an actor that can solve its own block does, unless a
   // constraint on it reaches another actor or more than one of its groups
-  // (joints): that coupling needs the block in the scene's matrix
-  for (Actor* actor : actors) actor->SetSolvesOwnBlock(!IsDistributed() && actor->CanSolveOwnBlock());
-  for (Constraint* constraint : constraints)
+  // (joints): that coupling needs the block in the scene's matrix. A
+  // single-body constraint on an articulated link is taken into the
+  // actor's own block instead (folded: Actor::FoldConstraint)
+  for (Actor* actor : actors) {
+    actor->SetSolvesOwnBlock(!IsDistributed() && actor->CanSolveOwnBlock());
+    actor->ClearFoldedConstraints();
+  }
+  DynamicArray<Constraint*> foldable;
+  for (Constraint* constraint : constraints) {
+    constraint->foldedInto_ = nullptr;
     for (int i = 0; i < constraint->GetNumActors(); ++i) {
       Actor* actor = constraint->GetActor(i);
       if (actor == nullptr || !actor->SolvesOwnBlock()) continue;
+      if (constraint->IsFoldableIntoLink()) {
+        foldable.push_back(constraint);
+        continue;
+      }
       int const begin = actor->GetDofOffset(), end = begin + actor->GetNumDofs();
       int group = -1;
       bool local = true;
@@ -150,6 +165,13 @@ void StageSolver::ChooseOwnBlockSolves(DynamicArray<Actor*> const& actors,
       }
       if (!local) actor->SetSolvesOwnBlock(false);
     }
+  }
+  // folded where the actor still solves its own block (another constraint
+  // may have coupled it since)
+  for (Constraint* constraint : foldable) {
+    Actor* actor = constraint->GetActor(0);
+    if (actor->SolvesOwnBlock() && actor->FoldConstraint(constraint)) constraint->foldedInto_ = actor;
+  }
 }
 
 LinearSolveResult StageSolver::FactorizeOwnBlocks(bool project, SceneStats& stats) {
@@ -482,7 +504,10 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
   for (Constraint* constraint : constraints)
     nearRigid += constraint->BeginStage(h, newton.nearRigidBeta, inverseMasses, constraintWorkspace_);
   stats.nearRigidConstraints = std::max(stats.nearRigidConstraints, nearRigid);
-  for (Actor* actor : actors) actor->BeginStage(stage, gravity);
+  for (Actor* actor : actors) {
+    actor->BeginStage(stage, gravity);
+    actor->SetFoldedConstraintHessian(newton.constraintHessian);
+  }
   Span<real> const lengthScales(dofLengthScales_.data(), dofLengthScales_.size());
   for (Actor* actor : actors) actor->WriteDofLengthScales(lengthScales);
   assembler_.PermuteToOrdered(Span<real const>(dofLengthScales_.data(), dofLengthScales_.size()),
@@ -543,7 +568,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
                              [&](int begin, int end, int thread) {
                                for (int c = begin; c < end; ++c) {
                                  int const contributor = firstContributor_[numConstraintsStart + c];
-                                 if (!assembler_.Evaluates(contributor)) continue;
+                                 if (!assembler_.Evaluates(contributor) || constraints[c]->foldedInto_) continue;
                                  constraints[c]->AddGradientAndHessian(
                                      h, assembler_, contributor, newton.constraintHessian, project,
                                      threadWorkspaces_[thread]);

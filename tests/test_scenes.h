@@ -212,4 +212,46 @@ inline ArticulatedActorParams TwoRevoluteLinks(real length, real mass) {
   return p;
 }
 
+/// A branched tree of eight links with every joint type (the root free or
+/// revolute), generic axes, offsets, armature on link 2 and damping on
+/// link 4 (docs/articulated.md's tree-against-dense checks).
+inline ArticulatedActorParams BranchedTree(bool floating, ArticulatedBlockSolve solve) {
+  ArticulatedActorParams p;
+  p.blockSolve = solve;
+  JointType const types[] = {JointType::Spherical, JointType::Revolute, JointType::Prismatic,
+                             JointType::Fixed,     JointType::Revolute, JointType::Spherical};
+  int const parents[] = {-1, 0, 1, 1, 3, 2, 5, 4};
+  for (int i = 0; i < 8; ++i) {
+    ArticulatedLinkParams link;
+    link.parent = parents[i];
+    link.joint = i == 0 ? (floating ? JointType::Free : JointType::Revolute) : types[(i - 1) % 6];
+    link.axis = Real3(0.3 * i, 1, 0.5);
+    link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(0.2, 0.05 * i, 0);
+    link.jointToChildPosition = Real3(0.02, 0.03, -0.01);
+    link.mass = 0.5 + 0.1 * i;
+    link.inertia = Real3(2e-3, 3e-3, 4e-3);
+    link.centerOfMass = Real3(0.1, 0, 0);
+    link.armature = i == 2 ? 0.01 : 0;
+    link.damping = i == 4 ? 0.05 : 0;
+    p.links.push_back(link);
+  }
+  return p;
+}
+
+/// A chain of n spherical joints, 0.1 m apart along +x (light links).
+inline ArticulatedActorParams SphericalChain(int n, ArticulatedBlockSolve solve = ArticulatedBlockSolve::Tree) {
+  ArticulatedActorParams chain;
+  chain.blockSolve = solve;
+  for (int i = 0; i < n; ++i) {
+    ArticulatedLinkParams link;
+    link.parent = i - 1;
+    link.joint = JointType::Spherical;
+    link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(0.1, 0, 0);
+    link.inertia = Real3(1e-4, 1e-3, 1e-3);
+    link.centerOfMass = Real3(0.05, 0, 0);
+    chain.links.push_back(link);
+  }
+  return chain;
+}
+
 }  // namespace superdex::test

@@ -167,17 +167,7 @@ TEST_CASE("articulated steps after the first allocate nothing", "[scene][allocat
   params.integrator = IntegratorType::Bdf2;
   params.newton.hessianProjection = projection;
   auto scene = MakeScene(params);
-  ArticulatedActorParams chain;
-  chain.blockSolve = blockSolve;
-  for (int i = 0; i < 40; ++i) {
-    ArticulatedLinkParams link;
-    link.parent = i - 1;
-    link.joint = JointType::Spherical;
-    link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(0.1, 0, 0);
-    link.inertia = Real3(1e-4, 1e-3, 1e-3);
-    link.centerOfMass = Real3(0.05, 0, 0);
-    chain.links.push_back(link);
-  }
+  ArticulatedActorParams const chain = SphericalChain(40, blockSolve);
   Error error;
   ArticulatedActor* actor = scene->CreateArticulatedActor(chain, error);
   REQUIRE(actor);
@@ -249,17 +239,8 @@ TEST_CASE("steps with constraints on articulated links allocate nothing", "[scen
   params.newton.hessianProjection = HessianProjection::Always;
   params.newton.constraintHessian = ConstraintHessian::GeometricStiffness;
   auto scene = MakeScene(params);
-  ArticulatedActorParams chain;
   int const n = 40;
-  for (int i = 0; i < n; ++i) {
-    ArticulatedLinkParams link;
-    link.parent = i - 1;
-    link.joint = JointType::Spherical;
-    link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(0.1, 0, 0);
-    link.inertia = Real3(1e-4, 1e-3, 1e-3);
-    link.centerOfMass = Real3(0.05, 0, 0);
-    chain.links.push_back(link);
-  }
+  ArticulatedActorParams const chain = SphericalChain(n);
   Error error;
   ArticulatedActor* actor = scene->CreateArticulatedActor(chain, error);
   REQUIRE(actor);
@@ -291,5 +272,39 @@ TEST_CASE("steps with constraints on articulated links allocate nothing", "[scen
   REQUIRE(held->RegisterQuery(QueryType::ConstraintForce, error));
   StepOk(*scene, 1e-2, 2);
   REQUIRE_FALSE(actor->IsSolvedOnTree());
+  RequireStepsAllocateNothing(*scene, 1e-2, 10);
+}
+
+TEST_CASE("steps with single-body constraints folded into the tree allocate nothing",
+          "[scene][allocation][articulated][tree]") {
+  // a RigidPivotPosition and a RigidPivotRotation on a 40-link chain's tip
+  // link, taken into the tree recursion (exact and projected Hessians)
+  HessianProjection const projection = GENERATE(HessianProjection::WhenIndefinite, HessianProjection::Always);
+  CAPTURE(static_cast<int>(projection));
+  SceneParams params;
+  params.integrator = IntegratorType::Bdf2;
+  params.newton.hessianProjection = projection;
+  auto scene = MakeScene(params);
+  int const n = 40;
+  ArticulatedActorParams const chain = SphericalChain(n);
+  Error error;
+  ArticulatedActor* actor = scene->CreateArticulatedActor(chain, error);
+  REQUIRE(actor);
+  RigidPivotPositionConstraintParams pin;
+  pin.actor = actor->GetHandle();
+  pin.link = n - 1;
+  pin.localPos = Real3(0.1, 0, 0);
+  pin.position = Real3(0.1 * n, 0, 0);
+  pin.stiffness = 1e4;
+  Constraint* pinned = scene->CreateRigidPivotPositionConstraint(pin, error);
+  REQUIRE(pinned);
+  REQUIRE(pinned->RegisterQuery(QueryType::ConstraintForce, error));
+  RigidPivotRotationConstraintParams turn;
+  turn.actor = actor->GetHandle();
+  turn.link = n - 1;
+  turn.stiffness = 10;
+  REQUIRE(scene->CreateRigidPivotRotationConstraint(turn, error));
+  StepOk(*scene, 1e-2, 2);
+  REQUIRE(actor->IsSolvedOnTree());
   RequireStepsAllocateNothing(*scene, 1e-2, 10);
 }

@@ -202,3 +202,86 @@ TEST_CASE("constraints on an articulated actor's links are destroyed with it", "
   StepOk(*scene, 0.01, 3);
   REQUIRE(ball->GetPosition().y() < y);
 }
+
+TEST_CASE("single-body constraints on links are folded into the tree: the same trajectory as the dense block",
+          "[scene][articulated][tree]") {
+  // a branched tree of every joint type (floating or fixed base), a
+  // RigidPivotPosition on a deep link with a moving target, a
+  // RigidPivotRotation and a RigidPivotToRigidTarget on two others, gravity,
+  // 0.5 s of BDF2 at dt = 1/100, exact Hessians (the geometric stiffness,
+  // with the link frames' curvature). The tree takes the constraints as
+  // wrenches and stiffnesses at their links, the dense block as blocks over
+  // their paths; both take the same exact Newton steps and converge to the
+  // tight tolerance, so the trajectories agree far below the integrator's
+  // error. (With the Gauss–Newton or diagonal blocks Newton converges only
+  // linearly here, and not to 1e-10 in 50 iterations, on either solve.)
+  bool const floating = GENERATE(false, true);
+  CAPTURE(floating);
+  auto run = [&](ArticulatedBlockSolve solve, DynamicArray<real>& positions, SceneStats& stats, int& iterations) {
+    SceneParams params = Tight();
+    params.integrator = IntegratorType::Bdf2;
+    params.newton.velocityTolerance = 1e-10;
+    auto scene = MakeScene(params);
+    ArticulatedActorParams const p = BranchedTree(floating, solve);
+    Error error;
+    ArticulatedActor* actor = scene->CreateArticulatedActor(p, error);
+    INFO(error.ToString());
+    REQUIRE(actor);
+    RigidPivotPositionConstraintParams pin;
+    pin.actor = actor->GetHandle();
+    pin.link = 6;
+    pin.localPos = Real3(0.1, 0.05, 0);
+    pin.position = actor->GetLinkPosition(6) + actor->GetLinkRotation(6) * pin.localPos;
+    pin.stiffness = 2e3;
+    pin.damping = 5;
+    Constraint* moving = scene->CreateRigidPivotPositionConstraint(pin, error);
+    REQUIRE(moving);
+    RigidPivotRotationConstraintParams turn;
+    turn.actor = actor->GetHandle();
+    turn.link = 7;
+    turn.rotation = actor->GetLinkRotation(7) * Quat(Eigen::AngleAxis<real>(0.4, Real3(0, 0, 1)));
+    turn.stiffness = 20;
+    turn.damping = 0.1;
+    REQUIRE(scene->CreateRigidPivotRotationConstraint(turn, error));
+    RigidPivotToRigidTargetConstraintParams carried;
+    carried.actor = actor->GetHandle();
+    carried.link = 5;
+    carried.localPos = Real3(0.05, 0, 0.02);
+    carried.position = Real3(0.1, -0.1, 0.05);
+    carried.rotation = Quat(Eigen::AngleAxis<real>(0.3, Real3(1, 0, 0)));
+    carried.stiffness = 500;
+    REQUIRE(scene->CreateRigidPivotToRigidTargetConstraint(carried, error));
+    for (int step = 0; step < 50; ++step) {
+      REQUIRE(moving->SetTargetPosition(pin.position + Real3(0, 0.2 * std::sin(0.2 * step), 0), error));
+      StepOk(*scene, 1.0 / 100);
+      iterations += scene->GetStats().newtonIterations;
+    }
+    REQUIRE(actor->IsSolvedOnTree() == (solve == ArticulatedBlockSolve::Tree));
+    positions = actor->GetJointPositions();
+    stats = scene->GetStats();
+  };
+  DynamicArray<real> tree, dense;
+  SceneStats treeStats, denseStats;
+  int treeIterations = 0, denseIterations = 0;
+  run(ArticulatedBlockSolve::Tree, tree, treeStats, treeIterations);
+  run(ArticulatedBlockSolve::Dense, dense, denseStats, denseIterations);
+  real difference = 0, size = 0;
+  for (std::size_t k = 0; k < tree.size(); ++k) {
+    difference = std::max(difference, std::abs(tree[k] - dense[k]));
+    size = std::max(size, std::abs(dense[k]));
+  }
+  std::printf("links' constraints folded into the tree vs the dense block (%s base): largest joint "
+              "coordinate difference %.2e after 0.5 s; Newton iterations %d and %d\n",
+              floating ? "floating" : "fixed", difference, treeIterations, denseIterations);
+  REQUIRE(size > 0.1);
+  CHECK(difference <= 1e-9);
+  // the same exact Newton steps where the Hessian is positive definite (the
+  // two modify indefinite ones differently): about as many iterations
+  // (measured 259 / 254 fixed, 281 / 271 floating). Without the link
+  // frames' curvature in the tree it took 505 / 257 and a step failed
+  CHECK(treeIterations <= 1.2 * denseIterations);
+  // the scene's matrix holds the joints' diagonal blocks only: no block over
+  // a constraint's path
+  int const n = static_cast<int>(tree.size());
+  CHECK(treeStats.hessianNonzeros < 3 * n);
+}

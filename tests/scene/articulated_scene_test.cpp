@@ -388,24 +388,7 @@ TEST_CASE("the tree recursion steps the same trajectory as the dense block", "[s
     SceneParams params = Tight(IntegratorType::Bdf2);
     params.newton.velocityTolerance = 1e-10;
     auto scene = MakeScene(params);
-    ArticulatedActorParams p;
-    p.blockSolve = solve;
-    JointType const types[] = {JointType::Spherical, JointType::Revolute, JointType::Prismatic,
-                               JointType::Fixed,     JointType::Revolute, JointType::Spherical};
-    int const parents[] = {-1, 0, 1, 1, 3, 2, 5, 4};
-    for (int i = 0; i < 8; ++i) {
-      ArticulatedLinkParams link;
-      link.parent = parents[i];
-      link.joint = i == 0 ? (floating ? JointType::Free : JointType::Revolute) : types[(i - 1) % 6];
-      link.axis = Real3(0.3 * i, 1, 0.5);
-      link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(0.2, 0.05 * i, 0);
-      link.mass = 0.5 + 0.1 * i;
-      link.inertia = Real3(2e-3, 3e-3, 4e-3);
-      link.centerOfMass = Real3(0.1, 0, 0);
-      link.armature = i == 2 ? 0.01 : 0;
-      link.damping = i == 4 ? 0.05 : 0;
-      p.links.push_back(link);
-    }
+    ArticulatedActorParams const p = BranchedTree(floating, solve);
     Error error;
     ArticulatedActor* actor = scene->CreateArticulatedActor(p, error);
     INFO(error.ToString());
