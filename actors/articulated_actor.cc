@@ -387,8 +387,10 @@ void ArticulatedActor::JointDifference(int link, JointState const& q, JointState
 }
 
 Real3 ArticulatedActor::GetLinkPosition(int link) const {
-  ComputeKinematics(state_.joints, kinematics_);
-  return kinematics_.linkPosition[link];
+  // from the committed pose, as GetLinkRotation (O(1); forward kinematics
+  // of the whole tree per call made get_link_positions O(N²))
+  internal::RigidBodyMotion const& m = state_.links[link];
+  return m.position - m.rotation * links_[link].centerOfMass;
 }
 
 Quat ArticulatedActor::GetLinkRotation(int link) const { return state_.links[link].rotation; }

@@ -140,7 +140,8 @@ class ArticulatedActor final : public Actor {
   /// iterate: O(path length), no allocation.
   void ComputeLinkFrame(internal::LinkPath& path) const;
 
-  /// Link frame (origin and axes) in the world.
+  /// Link frame (origin and axes) in the world, at the committed
+  /// configuration (the end of the last step).
   Real3 GetLinkPosition(int link) const;
   Quat GetLinkRotation(int link) const;
   /// Centre of mass, world.
