@@ -342,15 +342,13 @@ void Constraint::Evaluate(Span<real const> target, internal::ConstraintWorkspace
   auto map = ws.linkMap.topLeftCorner(k, n);
   map.setZero();
   for (int a = 0, row = 0, column = 0; a < numActors_; ++a) {
+    int const size = static_cast<int>(localDofs_[a].size());
     if (links_[a] < 0) {
-      int const size = static_cast<int>(localDofs_[a].size());
       map.block(row, column, size, size).setIdentity();
       row += size;
-      column += size;
-      continue;
+    } else {
+      for (int local : typeDofs_[a]) map.row(row++).segment(column, size) = paths_[a].jacobian.row(local);
     }
-    int const size = static_cast<int>(localDofs_[a].size());
-    for (int local : typeDofs_[a]) map.row(row++).segment(column, size) = paths_[a].jacobian.row(local);
     column += size;
   }
   ws.jacobian.topLeftCorner(m, n).noalias() = typeJacobian * map;
@@ -473,6 +471,21 @@ Eigen::Ref<VectorX const> Constraint::CurvatureWeights(internal::ConstraintWorks
   return ws.f.head(dimension_);
 }
 
+ConstraintHessian Constraint::HessianMode(ConstraintHessian sceneHessian) const {
+  ConstraintHessian const mode = hessian_ == ConstraintHessian::SceneDefault ? sceneHessian : hessian_;
+  return hasCurvature_ ? mode : ConstraintHessian::GaussNewton;
+}
+
+void Constraint::AddCurvatureTerm(Eigen::Ref<MatrixX const> const& curvature, bool diagonal,
+                                  Eigen::Ref<MatrixX> hessian) {
+  if (!diagonal) {
+    hessian += curvature;
+    return;
+  }
+  // PSD: G replaced by the diagonal of its column norms (Andrews et al.)
+  for (Eigen::Index j = 0; j < curvature.cols(); ++j) hessian(j, j) += curvature.col(j).norm();
+}
+
 void Constraint::AddGradientAndHessian(real h, internal::HessianAssembler& assembler, int contributor,
                                        ConstraintHessian sceneHessian, bool projectHessian,
                                        internal::ConstraintWorkspace& ws) const {
@@ -484,17 +497,12 @@ void Constraint::AddGradientAndHessian(real h, internal::HessianAssembler& assem
   auto hessian = ws.hessian.topLeftCorner(n, n);
   hessian.noalias() = scale * jacobian.transpose() * jacobian;
 
-  ConstraintHessian const mode = hessian_ == ConstraintHessian::SceneDefault ? sceneHessian : hessian_;
-  if (hasCurvature_ && mode != ConstraintHessian::GaussNewton) {
+  ConstraintHessian const mode = HessianMode(sceneHessian);
+  if (mode != ConstraintHessian::GaussNewton) {
     auto curvature = ws.curvature.topLeftCorner(n, n);
     curvature.setZero();
     AddCurvature(target_, CurvatureWeights(ws), ws, curvature);
-    if (projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal) {
-      // PSD: G replaced by the diagonal of its column norms (Andrews et al.)
-      for (int j = 0; j < n; ++j) hessian(j, j) += curvature.col(j).norm();
-    } else {
-      hessian += curvature;
-    }
+    AddCurvatureTerm(curvature, projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal, hessian);
   }
   assembler.AddBlock(contributor, hessian);
 }
@@ -509,22 +517,20 @@ bool Constraint::AddFoldedTerms(real h, ConstraintHessian sceneHessian, bool pro
   // the type's Hessian over its rigid DoFs on the link, embedded in the six
   int const m = dimension_, k = typeNumDofs_;
   auto const typeJacobian = ws.typeJacobian.topLeftCorner(m, k);
-  ws.typeCurvature.setZero(k, k);
   ws.typeCurvature.noalias() = scale * typeJacobian.transpose() * typeJacobian;
-  ConstraintHessian const mode = hessian_ == ConstraintHessian::SceneDefault ? sceneHessian : hessian_;
+  ConstraintHessian const mode = HessianMode(sceneHessian);
   DynamicArray<int> const& rigid = typeDofs_[0];
-  if (hasCurvature_ && mode != ConstraintHessian::GaussNewton) {
+  if (mode != ConstraintHessian::GaussNewton) {
     Eigen::Ref<VectorX const> const weights = CurvatureWeights(ws);
     // (ws.curvature's corner: the type's curvature over its rigid DoFs)
     auto curvature = ws.curvature.topLeftCorner(k, k);
     curvature.setZero();
     DoAddCurvature(target_, weights, curvature);
-    if (projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal) {
-      for (int j = 0; j < k; ++j) ws.typeCurvature(j, j) += curvature.col(j).norm();
-    } else {
-      ws.typeCurvature += curvature;
+    bool const diagonal = projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal;
+    AddCurvatureTerm(curvature, diagonal, ws.typeCurvature);
+    // the frame's own curvature only with the exact G
+    if (!diagonal)
       for (int c = 0; c < k; ++c) curvatureWrench[rigid[c]] = typeJacobian.col(c).dot(weights);
-    }
   }
   for (int a = 0; a < k; ++a)
     for (int b = 0; b < k; ++b) hessian(rigid[a], rigid[b]) = ws.typeCurvature(a, b);

@@ -282,6 +282,12 @@ class Constraint {
   /// The weights of the curvature G: the force estimate f̂ once this stage
   /// has one, else f(g) (ws.f, after Linearize).
   Eigen::Ref<VectorX const> CurvatureWeights(internal::ConstraintWorkspace const& ws) const;
+  /// This constraint's Hessian (SceneDefault: `sceneHessian`), GaussNewton
+  /// for a type without curvature.
+  ConstraintHessian HessianMode(ConstraintHessian sceneHessian) const;
+  /// hessian += G, or with `diagonal` the diagonal of G's column norms (PSD).
+  static void AddCurvatureTerm(Eigen::Ref<MatrixX const> const& curvature, bool diagonal,
+                               Eigen::Ref<MatrixX> hessian);
   /// A constraint folded into its articulated actor's tree (IsFoldableIntoLink;
   /// the actor calls this in its assembly instead of the scene's constraint
   /// loop): the gradient Jᵀ f over the constraint's DoFs in ws.r, and, over

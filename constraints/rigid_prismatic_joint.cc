@@ -19,11 +19,15 @@ RigidPrismaticJointConstraint::RigidPrismaticJointConstraint(
       referenceOffset_(Real3::Zero()),
       lowerLimit_(params.lowerLimit),
       upperLimit_(params.upperLimit) {
-  referenceOffset_ = params.offsetAroundRest ? GetOffset() : params.referenceOffset;
+  referenceOffset_ = params.offsetAroundRest ? Offset() : params.referenceOffset;
 }
 
 Real3 RigidPrismaticJointConstraint::GetOffset() const {
   RefreshLinkFrames();
+  return Offset();
+}
+
+Real3 RigidPrismaticJointConstraint::Offset() const {
   Quat const frame = BodyRotation(0) * frameInA_;
   return frame.conjugate() * (BodyPosition(1) - BodyPosition(0)) - referenceOffset_;
 }
@@ -54,7 +58,7 @@ void RigidPrismaticJointConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<
   // wᵀs = Wᵀ Exp(−δθ_A) (t_B − t_A) + const with W = R_A R₀ w (the travel
   // row's weight only where a limit is violated): second order ½ δ×(δ×d) in
   // δθ_A, and −Wᵀ(δθ_A × d) couples δθ_A with d = t_B − t_A through Hat(W)
-  real const travel = GetOffset().z();
+  real const travel = Offset().z();
   Real3 w = weights.head<3>();
   if (!(travel > upperLimit_ || travel < lowerLimit_)) w.z() = 0;
   Real3 const worldWeights = (BodyRotation(0) * frameInA_) * w;

@@ -52,6 +52,8 @@ class RigidPrismaticJointConstraint final : public Constraint {
   real GetUpperLimit() const { return upperLimit_; }
 
  private:
+  /// GetOffset at the bodies' frames as last refreshed (inside an evaluation).
+  Real3 Offset() const;
   void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                   Eigen::Ref<MatrixX> jacobian) const override;
   void DoAddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,

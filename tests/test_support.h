@@ -40,6 +40,14 @@ inline RigidActor* MakeRigid(Scene& scene, RigidActorParams const& params) {
   return actor;
 }
 
+inline ArticulatedActor* MakeArticulated(Scene& scene, ArticulatedActorParams const& params) {
+  Error error;
+  ArticulatedActor* actor = scene.CreateArticulatedActor(params, error);
+  INFO(error.ToString());
+  REQUIRE(actor);
+  return actor;
+}
+
 /// The scene's factory for each kind of actor params.
 inline Actor* CreateActor(Scene& s, RigidActorParams const& p, Error& e) { return s.CreateRigidActor(p, e); }
 inline Actor* CreateActor(Scene& s, DeformableActorParams const& p, Error& e) {

@@ -242,8 +242,7 @@ TEST_CASE("steps with constraints on articulated links allocate nothing", "[scen
   int const n = 40;
   ArticulatedActorParams const chain = SphericalChain(n);
   Error error;
-  ArticulatedActor* actor = scene->CreateArticulatedActor(chain, error);
-  REQUIRE(actor);
+  ArticulatedActor* actor = MakeArticulated(*scene, chain);
   RigidActorParams body;
   body.position = Real3(0.1 * n, 0, 0);
   RigidActor* ball = MakeRigid(*scene, body);
@@ -288,8 +287,7 @@ TEST_CASE("steps with single-body constraints folded into the tree allocate noth
   int const n = 40;
   ArticulatedActorParams const chain = SphericalChain(n);
   Error error;
-  ArticulatedActor* actor = scene->CreateArticulatedActor(chain, error);
-  REQUIRE(actor);
+  ArticulatedActor* actor = MakeArticulated(*scene, chain);
   RigidPivotPositionConstraintParams pin;
   pin.actor = actor->GetHandle();
   pin.link = n - 1;

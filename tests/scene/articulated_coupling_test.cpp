@@ -63,9 +63,7 @@ TEST_CASE("a pendulum built as an articulated link held by a RigidPivotPosition 
   Real3 const turn = Eigen::AngleAxis<real>(rotation).angle() * Eigen::AngleAxis<real>(rotation).axis();
   link.initialPosition = {start.x(), start.y(), start.z(), turn.x(), turn.y(), turn.z()};
   tree.links.push_back(link);
-  ArticulatedActor* articulated = treeScene->CreateArticulatedActor(tree, error);
-  INFO(error.ToString());
-  REQUIRE(articulated);
+  ArticulatedActor* articulated = MakeArticulated(*treeScene, tree);
   int const l = 0;
   pin.actor = articulated->GetHandle();
   pin.link = l;
@@ -141,8 +139,7 @@ TEST_CASE("an articulated arm holding a rigid ball by a RigidSphericalJoint on i
   int const steps = static_cast<int>(std::lround(endTime / dt));
   Error error;
   auto referenceScene = MakeScene(Tight());
-  ArticulatedActor* reference = referenceScene->CreateArticulatedActor(Arm(true), error);
-  REQUIRE(reference);
+  ArticulatedActor* reference = MakeArticulated(*referenceScene, Arm(true));
   StepOk(*referenceScene, dt, steps);
   Real3 const expected = reference->GetLinkCenterOfMass(2);
   std::printf("arm + rigid ball on a RigidSphericalJoint vs the ball as a spherical link, t = %.1f s, dt = 1/400:\n",
@@ -150,8 +147,7 @@ TEST_CASE("an articulated arm holding a rigid ball by a RigidSphericalJoint on i
   DynamicArray<real> stiffnesses, errors;
   for (real k : {1e4, 1e5, 1e6, 1e7}) {
     auto scene = MakeScene(Tight());
-    ArticulatedActor* arm = scene->CreateArticulatedActor(Arm(false), error);
-    REQUIRE(arm);
+    ArticulatedActor* arm = MakeArticulated(*scene, Arm(false));
     RigidActorParams body;
     body.mass = kBallMass;
     body.inertia = kBallInertia;
@@ -179,8 +175,7 @@ TEST_CASE("an articulated arm holding a rigid ball by a RigidSphericalJoint on i
 TEST_CASE("constraints on an articulated actor's links are destroyed with it", "[scene][articulated]") {
   auto scene = MakeScene(Tight());
   Error error;
-  ArticulatedActor* arm = scene->CreateArticulatedActor(Arm(false), error);
-  REQUIRE(arm);
+  ArticulatedActor* arm = MakeArticulated(*scene, Arm(false));
   RigidActorParams body;
   body.position = Real3(2 * kLength, 0, 0);
   RigidActor* ball = MakeRigid(*scene, body);
@@ -224,9 +219,7 @@ TEST_CASE("single-body constraints on links are folded into the tree: the same t
     auto scene = MakeScene(params);
     ArticulatedActorParams const p = BranchedTree(floating, solve);
     Error error;
-    ArticulatedActor* actor = scene->CreateArticulatedActor(p, error);
-    INFO(error.ToString());
-    REQUIRE(actor);
+    ArticulatedActor* actor = MakeArticulated(*scene, p);
     RigidPivotPositionConstraintParams pin;
     pin.actor = actor->GetHandle();
     pin.link = 6;
