@@ -149,16 +149,30 @@ class Actor {
   /// which SolveOwnBlock then replaces. False when the block is not positive
   /// definite (or not finite); with `projectHessian`, where that failure is
   /// final, `reason` says why (without, the stage solver retries projected).
+  /// With `separateCouplings` a block coupled with other DoFs is made
+  /// positive definite without its couplings' terms, which then join it: the
+  /// Schur complement is then positive definite wherever those terms are.
   virtual bool FactorizeOwnBlock(internal::HessianAssembler& /*assembler*/, int /*firstContributor*/,
-                                 bool /*projectHessian*/, std::string& /*reason*/) {
+                                 bool /*projectHessian*/, bool /*separateCouplings*/, std::string& /*reason*/) {
     return true;
   }
   /// delta ← (own block)⁻¹ rhs on the actor's DoFs (global vectors), with
-  /// the last FactorizeOwnBlock.
+  /// the last FactorizeOwnBlock. Where the block is coupled to other DoFs
+  /// (HasOwnBlockCoupling), delta holds the scene's solution on them (x_o)
+  /// and the actor's part is A⁻¹(rhs_t − Cᵀ x_o).
   virtual void SolveOwnBlock(Span<real const> /*rhs*/, Span<real> /*delta*/) {}
-  /// A constraint whose only body is a part of this actor (an articulated
-  /// link) taken into the actor's own block (SolvesOwnBlock actors): the
-  /// actor then assembles it, and the scene's matrix holds no block of it.
+  /// True where a folded constraint couples the actor's own block A with
+  /// other bodies' DoFs (C): FactorizeOwnBlock then adds −C A⁻¹ Cᵀ to their
+  /// block in the scene's matrix (a Schur complement), and
+  /// EliminateOwnBlockFromRhs turns the scene's right-hand side −∇E
+  /// (natural order, global) into the complement's, rhs_o − C A⁻¹ rhs_t.
+  virtual bool HasOwnBlockCoupling() const { return false; }
+  virtual void EliminateOwnBlockFromRhs(Span<real> /*rhs*/) {}
+  /// A constraint on a part of this actor (an articulated link), alone or
+  /// with a body of another actor that is not such a part, taken into the
+  /// actor's own block (SolvesOwnBlock actors): the actor then assembles it
+  /// (a coupling through its Schur complement), and the scene's matrix
+  /// holds no block of it but over the other body's DoFs.
   /// False where the actor cannot take it. Set by the stage solver at each
   /// pattern build, after ClearFoldedConstraints.
   virtual bool FoldConstraint(Constraint* /*constraint*/) { return false; }

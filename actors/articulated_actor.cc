@@ -565,6 +565,8 @@ void ArticulatedActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& do
       for (int k = 0; k < l.numDofs; ++k) dofs[k] = dofOffset_ + l.dofStart + k;
       dofLists.push_back(std::move(dofs));
     }
+    // and one over the DoFs of the bodies its links are coupled with
+    if (!couplingDofs_.empty()) dofLists.push_back(couplingDofs_);
     return;
   }
   // one dense block over all the actor's DoFs
@@ -671,7 +673,17 @@ void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
                 localMotion_.col(c).tail<3>().dot(wrenchForce_[i]);
   // single-body constraints on links folded into the tree: a wrench and a
   // stiffness at the link, as the links' inertia terms
-  for (Constraint const* constraint : folded_) AddFoldedConstraint(*constraint, projectHessian);
+  if (!couplingDofs_.empty()) {
+    couplingGradient_.setZero();
+    couplingHessian_.setZero();
+    for (CoupledLink& coupled : coupledLinks_) {
+      coupled.coupling.setZero();
+      coupled.stiffness.setZero();
+    }
+  }
+  if (!folded_.empty()) foldedDiagonal_.setZero();
+  for (FoldedConstraint const& folded : folded_) AddFoldedConstraint(folded, projectHessian);
+  for (CoupledLink& coupled : coupledLinks_) coupled.ownWithout = own_[coupled.link];
 
   // each joint's extra block E_c = H_cc − sym(S_cᵀ Y_c S_c) (the tree
   // solver's jointExtras): H_cc is the composite-rigid-body part S_cᵀ K S_c
@@ -746,6 +758,10 @@ void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
       case JointType::Fixed: break;
     }
   }
+  // the folded constraints' projected link-frame curvature (a diagonal)
+  if (!folded_.empty())
+    for (int i = 0; i < numLinks; ++i)
+      for (int a = 0; a < links_[i].numDofs; ++a) jointBlocks_[i](a, a) += foldedDiagonal_[links_[i].dofStart + a];
 }
 
 void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
@@ -763,6 +779,12 @@ void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembl
       assembler.AddGradient(contributor, gradient_.segment(links_[i].dofStart, m));
       assembler.AddBlock(contributor, jointBlocks_[i].topLeftCorner(m, m));
       ++contributor;
+    }
+    // the couplings' terms on the other bodies' DoFs (the Schur complement's
+    // term joins them after the tree's factorization)
+    if (!couplingDofs_.empty()) {
+      assembler.AddGradient(contributor, couplingGradient_);
+      assembler.AddBlock(contributor, couplingHessian_);
     }
     return;
   }
@@ -811,39 +833,121 @@ void ArticulatedActor::SizeDenseBlock() const {
   modifiedOrder_.assign(numDofs_, 0);
 }
 
+void ArticulatedActor::ClearFoldedConstraints() {
+  folded_.clear();
+  coupledLinks_.clear();
+  couplingDofs_.clear();
+  numCoupled_ = 0;
+}
+
 bool ArticulatedActor::FoldConstraint(Constraint* constraint) {
-  if (!SolvesOwnBlock() || !constraint->IsFoldableIntoLink() || constraint->GetActor(0) != this) return false;
-  folded_.push_back(constraint);
+  int const slot = constraint->FoldableLinkSlot();
+  if (!SolvesOwnBlock() || slot < 0 || constraint->GetActor(slot) != this) return false;
+  if (foldedDiagonal_.size() != numDofs_) foldedDiagonal_.setZero(numDofs_);
+  FoldedConstraint folded;
+  folded.constraint = constraint;
+  folded.linkSlot = slot;
+  if (constraint->GetNumActors() == 2) {
+    // the other body's DoFs join the coupling block (in order of first use)
+    for (int dof : constraint->GetDofIndicesForActor(1 - slot)) {
+      auto const found = std::find(couplingDofs_.begin(), couplingDofs_.end(), dof);
+      folded.couplingIndex.push_back(static_cast<int>(found - couplingDofs_.begin()));
+      if (found == couplingDofs_.end()) couplingDofs_.push_back(dof);
+    }
+    int const link = constraint->links_[slot];
+    auto const coupled = std::find_if(coupledLinks_.begin(), coupledLinks_.end(),
+                                      [&](CoupledLink const& c) { return c.link == link; });
+    folded.coupledLink = static_cast<int>(coupled - coupledLinks_.begin());
+    if (coupled == coupledLinks_.end()) {
+      CoupledLink added;
+      added.link = link;
+      added.dofs = constraint->paths_[slot].dofs;
+      added.jacobian.setZero(6, static_cast<Eigen::Index>(added.dofs.size()));
+      coupledLinks_.push_back(std::move(added));
+    }
+    ++numCoupled_;
+    int const n = static_cast<int>(couplingDofs_.size());
+    for (CoupledLink& c : coupledLinks_) c.coupling.setZero(6, n);
+    couplingGradient_.setZero(n);
+    couplingHessian_.setZero(n, n);
+    schurTerm_.setZero(n, n);
+    schurColumns_.setZero(n, 6);
+    treeRhs_.setZero(numDofs_);
+    treeSolution_.setZero(numDofs_);
+    pivotChanges_.assign(links_.size(), Matrix6::Zero());
+  }
+  folded_.push_back(std::move(folded));
   foldedMaxDimension_ = std::max(foldedMaxDimension_, constraint->GetDimension());
   foldedMaxDofs_ = std::max(foldedMaxDofs_, constraint->GetNumDofs());
   foldedWorkspace_.Reserve(foldedMaxDimension_, foldedMaxDofs_);
   return true;
 }
 
-void ArticulatedActor::AddFoldedConstraint(Constraint const& constraint, bool projectHessian) const {
-  Matrix6 hessian;
+void ArticulatedActor::AddFoldedConstraint(FoldedConstraint const& folded, bool projectHessian) const {
+  internal::ConstraintWorkspace::FoldedBlock hessian;
   Vector6 wrench;
+  bool exactCurvature = false;
   internal::ConstraintWorkspace& ws = foldedWorkspace_;
-  if (!constraint.AddFoldedTerms(stage_.duration, foldedSceneHessian_, projectHessian, ws, hessian, wrench))
+  Constraint const& constraint = *folded.constraint;
+  int const slot = folded.linkSlot;
+  if (!constraint.AddFoldedTerms(stage_.duration, foldedSceneHessian_, projectHessian, slot, ws, hessian, wrench,
+                                 exactCurvature))
     return;
-  // the gradient Jᵀ f on the path's DoFs
-  Span<int const> const dofs = constraint.GetDofIndicesForActor(0);
-  for (std::size_t j = 0; j < dofs.size(); ++j) gradient_[dofs[j] - dofOffset_] += ws.r[static_cast<Eigen::Index>(j)];
+  // the gradient Jᵀ f (ws.r, slot order) on the path's DoFs and the other body's
+  Span<int const> const dofs = constraint.GetDofIndicesForActor(slot);
+  int const numPath = static_cast<int>(dofs.size());
+  int const numOther = static_cast<int>(folded.couplingIndex.size());
+  int const pathColumn = slot == 0 ? 0 : numOther, otherColumn = slot == 0 ? numPath : 0;
+  for (int j = 0; j < numPath; ++j) gradient_[dofs[j] - dofOffset_] += ws.r[pathColumn + j];
+  int const link = constraint.links_[slot];
+  if (numOther > 0) {
+    // the coupling: H_lo into the link's W (and the link frame's Jacobian
+    // at this iterate, for the complement), H_oo over the other DoFs
+    CoupledLink& coupled = coupledLinks_[folded.coupledLink];
+    coupled.jacobian = constraint.paths_[slot].jacobian;
+    for (int j = 0; j < numOther; ++j) {
+      int const cj = folded.couplingIndex[j];
+      couplingGradient_[cj] += ws.r[otherColumn + j];
+      coupled.coupling.col(cj) += hessian.block<6, 1>(0, 6 + j);
+      for (int i = 0; i < numOther; ++i) couplingHessian_(folded.couplingIndex[i], cj) += hessian(6 + i, 6 + j);
+    }
+  }
   // the stiffness about o_L: the link frame's increments (δt; δθ) of the
   // tree's motion (ω; v at o_L) are T (ω; v), T = [[−[r]×, I], [I, 0]],
   // r = t − o_L
-  int const link = constraint.links_[0];
   Real3 const r = kinematics_.linkPosition[link] - kinematics_.jointOrigin[link];
   Matrix6 t = Matrix6::Zero();
   t.topLeftCorner<3, 3>() = -Hat(r);
   t.topRightCorner<3, 3>().setIdentity();
   t.bottomLeftCorner<3, 3>().setIdentity();
-  own_[link].noalias() += t.transpose() * hessian * t;
+  Matrix6& stiffness = numOther > 0 ? coupledLinks_[folded.coupledLink].stiffness : own_[link];
+  stiffness.noalias() += t.transpose() * hessian.topLeftCorner<6, 6>() * t;
   if (wrench.isZero()) return;
+  Real3 const force = wrench.head<3>(), moment = wrench.tail<3>();
+  if (!exactCurvature) {
+    // projected (or the diagonal geometric stiffness): a coupling's frame
+    // curvature K by its column norms over the path's DoFs, a diagonal the
+    // joints' blocks take (as the scene's matrix takes them on the dense
+    // block, with G's), O(path²). Without it, a chain holding a hanging tet
+    // block by a node took Newton steps of hundreds of radians (the large
+    // inertia residuals K balances stay in the tree's curvature) and
+    // stalled; a single-body constraint converges as well without it, and
+    // its diagonal slowed the last iterations to linear convergence
+    if (numOther == 0) return;
+    internal::LinkPath const& path = constraint.paths_[slot];
+    for (int j = 0; j < numPath; ++j) {
+      real squares = 0;
+      for (int i = 0; i < numPath; ++i) {
+        real const value = i <= j ? path.Curvature(i, j, force, moment) : path.Curvature(j, i, force, moment);
+        squares += value * value;
+      }
+      foldedDiagonal_[path.dofs[j]] += std::sqrt(squares);
+    }
+    return;
+  }
   // the link frame's own curvature against the wrench (F at t, pure moment
   // M): own_ as the links' inertia wrenches, and the subtree sums the
   // joints' blocks E_c read, along the path
-  Real3 const force = wrench.head<3>(), moment = wrench.tail<3>();
   own_[link] += Curvature(r * force.transpose(), force, moment);
   for (int j = link; j >= 0; j = links_[j].parent) {
     forceMoment_[j] += (kinematics_.linkPosition[link] - kinematics_.jointOrigin[j]) * force.transpose();
@@ -857,7 +961,7 @@ internal::ArticulatedTreeSolver::System ArticulatedActor::TreeSystem() const {
 }
 
 bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, int firstContributor,
-                                         bool projectHessian, std::string& reason) {
+                                         bool projectHessian, bool separateCouplings, std::string& reason) {
   // the joints' assembled diagonal blocks (the joint constraints' terms
   // included) replace the actor's own; the scene's matrix gets the identity
   int contributor = firstContributor;
@@ -869,30 +973,133 @@ bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, 
     assembler.WriteBlock(contributor, Matrix6::Identity().topLeftCorner(m, m));
     ++contributor;
   }
+  JoinCouplingStiffness(true);
   int failedLink = -1;
-  if (!projectHessian && treeSolver_.Factorize(TreeSystem(), false, &failedLink)) return true;
-  // Not positive definite (or the scene projects every Hessian): the tree
-  // made positive definite at once, as the projected retry would, without
-  // re-assembling the scene for it (the actor's block is solved apart from
-  // the scene's matrix, so its projection is its own; the retry cost the
-  // falling chain ~2 extra assemblies per step). The metric that bounds the
-  // modification: each link's inertia w·M about its joint origin
-  for (int i = 0; i < GetNumLinks(); ++i) {
-    Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
-    real const w = inertia_[i].Weight();
-    linkMetric_[i] = SpatialStiffness(w * r * links_[i].inertia.asDiagonal() * r.transpose(), w * links_[i].mass,
-                                      kinematics_.com[i] - kinematics_.jointOrigin[i]);
+  bool factorized = !projectHessian && treeSolver_.Factorize(TreeSystem(), false, &failedLink);
+  // coupled with other bodies, an indefinite block is left to the stage
+  // solver's projected retry (the couplings' terms projected too, as on the
+  // dense block): modifying it with the couplings' exact terms in it took
+  // Newton tens of iterations per step where the retry takes four
+  if (!factorized && !projectHessian && !couplingDofs_.empty()) return false;
+  if (!factorized) {
+    // Not positive definite (or the scene projects every Hessian): the tree
+    // made positive definite at once, as the projected retry would, without
+    // re-assembling the scene for it (the actor's block is solved apart from
+    // the scene's matrix, so its projection is its own; the retry cost the
+    // falling chain ~2 extra assemblies per step). The metric that bounds the
+    // modification: each link's inertia w·M about its joint origin
+    for (int i = 0; i < GetNumLinks(); ++i) {
+      Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
+      real const w = inertia_[i].Weight();
+      linkMetric_[i] = SpatialStiffness(w * r * links_[i].inertia.asDiagonal() * r.transpose(), w * links_[i].mass,
+                                        kinematics_.com[i] - kinematics_.jointOrigin[i]);
+    }
+    ++modifiedTreeFactorizations_;
+    if (couplingDofs_.empty() || !separateCouplings) {
+      factorized = treeSolver_.Factorize(TreeSystem(), true, &failedLink);
+    } else {
+      // Coupled with other bodies, the modification kept apart from the
+      // couplings (the stage solver's last resort, after the modified sum
+      // left an indefinite Schur complement: where the couplings'
+      // stiffness hides an indefinite actor block, the complement takes the
+      // stiffness out again): the modification is the actor's own, made
+      // without the couplings' stiffness (A₊ = A + blockdiag(ΔD), the
+      // changes kept in the joints' E_i), and the stiffness then joins A₊.
+      // With projected couplings (PSD over the link frame and the other
+      // body) the scene's matrix is then positive definite, and so is the
+      // complement. (Not the first choice: with large inertia residuals the
+      // actor's block alone is far from definite, and its modification a
+      // poorer model than the sum's; Newton took hundreds of iterations on
+      // a chain holding a hanging tet block)
+      JoinCouplingStiffness(false);
+      factorized = treeSolver_.Factorize(TreeSystem(), true, &failedLink, pivotChanges_);
+      JoinCouplingStiffness(true);
+      if (factorized) {
+        for (int i = 0; i < GetNumLinks(); ++i) jointBlocks_[i] += pivotChanges_[i];
+        factorized = treeSolver_.Factorize(TreeSystem(), false, &failedLink) ||
+                     treeSolver_.Factorize(TreeSystem(), true, &failedLink);
+      }
+    }
   }
-  ++modifiedTreeFactorizations_;
-  if (treeSolver_.Factorize(TreeSystem(), true, &failedLink)) return true;
-  reason = "the articulated actor's Hessian has no positive definite modification (tree recursion, pivot of "
-           "the joint of link " +
-           std::to_string(failedLink) + ": not finite, or zero with a zero Hessian)";
-  return false;
+  if (!factorized) {
+    reason = "the articulated actor's Hessian has no positive definite modification (tree recursion, pivot of "
+             "the joint of link " +
+             std::to_string(failedLink) + ": not finite, or zero with a zero Hessian)";
+    return false;
+  }
+  // coupled with other bodies: their block gets the Schur complement's term
+  if (!couplingDofs_.empty()) {
+    ComputeSchurTerm();
+    assembler.AddToAssembledBlock(contributor, -schurTerm_);
+  }
+  return true;
+}
+
+void ArticulatedActor::JoinCouplingStiffness(bool join) {
+  for (CoupledLink const& coupled : coupledLinks_)
+    own_[coupled.link] = join ? Matrix6(coupled.ownWithout + coupled.stiffness) : coupled.ownWithout;
+}
+
+void ArticulatedActor::ComputeSchurTerm() {
+  // C A⁻¹ Cᵀ, C = Σ_ℓ W_ℓᵀ B_ℓ: for each coupled link ℓ' and each of the six
+  // unit wrenches e_k on its frame, y = A⁻¹ B_ℓ'ᵀ e_k (one tree solve, O(N)),
+  // then column k of Σ_ℓ W_ℓᵀ (B_ℓ y) (O(path) per link)
+  schurTerm_.setZero();
+  for (CoupledLink const& right : coupledLinks_) {
+    for (int k = 0; k < 6; ++k) {
+      treeRhs_.setZero();
+      for (std::size_t j = 0; j < right.dofs.size(); ++j)
+        treeRhs_[right.dofs[j]] = right.jacobian(k, static_cast<Eigen::Index>(j));
+      SolveTree();
+      schurColumns_.col(k).setZero();
+      for (CoupledLink const& left : coupledLinks_)
+        schurColumns_.col(k).noalias() += left.coupling.transpose() * LinkMotion(left);
+    }
+    schurTerm_.noalias() += schurColumns_ * right.coupling;
+  }
+}
+
+Vector6 ArticulatedActor::LinkMotion(CoupledLink const& coupled) const {
+  Vector6 motion = Vector6::Zero();
+  for (std::size_t j = 0; j < coupled.dofs.size(); ++j)
+    motion += coupled.jacobian.col(static_cast<Eigen::Index>(j)) * treeSolution_[coupled.dofs[j]];
+  return motion;
+}
+
+void ArticulatedActor::SolveTree() {
+  treeSolver_.Solve(TreeSystem(), Span<real const>(treeRhs_.data(), treeRhs_.size()),
+                    Span<real>(treeSolution_.data(), treeSolution_.size()));
+}
+
+void ArticulatedActor::EliminateOwnBlockFromRhs(Span<real> rhs) {
+  if (couplingDofs_.empty()) return;
+  // rhs_o −= C A⁻¹ rhs_t = Σ_ℓ W_ℓᵀ B_ℓ y, y = A⁻¹ rhs_t
+  for (int i = 0; i < numDofs_; ++i) treeRhs_[i] = rhs[dofOffset_ + i];
+  SolveTree();
+  for (CoupledLink const& coupled : coupledLinks_) {
+    Vector6 const motion = LinkMotion(coupled);
+    for (std::size_t j = 0; j < couplingDofs_.size(); ++j)
+      rhs[couplingDofs_[j]] -= coupled.coupling.col(static_cast<Eigen::Index>(j)).dot(motion);
+  }
 }
 
 void ArticulatedActor::SolveOwnBlock(Span<real const> rhs, Span<real> delta) {
-  treeSolver_.Solve(TreeSystem(), rhs.subspan(dofOffset_, numDofs_), delta.subspan(dofOffset_, numDofs_));
+  Span<real> const own = delta.subspan(dofOffset_, numDofs_);
+  if (couplingDofs_.empty()) {
+    treeSolver_.Solve(TreeSystem(), rhs.subspan(dofOffset_, numDofs_), own);
+    return;
+  }
+  // x_t = A⁻¹(rhs_t − Cᵀ x_o), Cᵀ x_o = Σ_ℓ B_ℓᵀ (W_ℓ x_o): the other
+  // bodies' solution as a wrench on each coupled link
+  for (int i = 0; i < numDofs_; ++i) treeRhs_[i] = rhs[dofOffset_ + i];
+  for (CoupledLink const& coupled : coupledLinks_) {
+    Vector6 wrench = Vector6::Zero();
+    for (std::size_t j = 0; j < couplingDofs_.size(); ++j)
+      wrench += coupled.coupling.col(static_cast<Eigen::Index>(j)) * delta[couplingDofs_[j]];
+    for (std::size_t j = 0; j < coupled.dofs.size(); ++j)
+      treeRhs_[coupled.dofs[j]] -= coupled.jacobian.col(static_cast<Eigen::Index>(j)).dot(wrench);
+  }
+  treeSolver_.Solve(TreeSystem(), Span<real const>(treeRhs_.data(), treeRhs_.size()), own);
 }
 
 void ArticulatedActor::ModifyHessianToPositiveDefinite() const {

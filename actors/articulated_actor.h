@@ -126,8 +126,15 @@ class ArticulatedActor final : public Actor {
   bool IsFloatingBase() const { return links_[0].joint == JointType::Free; }
   ArticulatedBlockSolve GetBlockSolve() const { return blockSolve_; }
   /// True while the stage solver solves the actor by the tree recursion
-  /// (Tree requested, one process, no constraint coupling two joints).
+  /// (Tree requested, one process, no constraint coupling two joints but
+  /// through a link: docs/articulated.md, "Links in constraints").
   bool IsSolvedOnTree() const { return SolvesOwnBlock(); }
+  /// Constraints between a link and another body that the tree couples to
+  /// the scene's matrix by a Schur complement (IsSolvedOnTree), and the DoFs
+  /// of those other bodies (the dense block the complement adds), as of the
+  /// last pattern build.
+  int GetNumCoupledConstraints() const { return numCoupled_; }
+  int GetNumCoupledDofs() const { return static_cast<int>(couplingDofs_.size()); }
   /// Tree factorizations made positive definite (the exact Hessian was
   /// indefinite, or the scene projects every Hessian) since creation.
   long GetNumModifiedTreeFactorizations() const { return modifiedTreeFactorizations_; }
@@ -226,10 +233,12 @@ class ArticulatedActor final : public Actor {
   bool CanSolveOwnBlock() const override { return blockSolve_ == ArticulatedBlockSolve::Tree; }
   int GetDofGroup(int dof) const override { return dofLink_[dof]; }
   bool FactorizeOwnBlock(internal::HessianAssembler& assembler, int firstContributor, bool projectHessian,
-                         std::string& reason) override;
+                         bool separateCouplings, std::string& reason) override;
   void SolveOwnBlock(Span<real const> rhs, Span<real> delta) override;
+  bool HasOwnBlockCoupling() const override { return !couplingDofs_.empty(); }
+  void EliminateOwnBlockFromRhs(Span<real> rhs) override;
   bool FoldConstraint(Constraint* constraint) override;
-  void ClearFoldedConstraints() override { folded_.clear(); }
+  void ClearFoldedConstraints() override;
   void SetFoldedConstraintHessian(ConstraintHessian hessian) override { foldedSceneHessian_ = hessian; }
   void SaveIterate() override;
   void RestoreIterate() override;
@@ -289,10 +298,45 @@ class ArticulatedActor final : public Actor {
   /// joint's E_c = H_cc − sym(S_cᵀ Y_c S_c), the joint-space terms included)
   /// and gradient_.
   void ComputeGradientAndTreeTerms(bool projectHessian) const;
-  /// A folded constraint's terms: Jᵀ f into gradient_, its stiffness at its
-  /// link into own_, its curvature wrench into own_ and the subtree sums
-  /// along the link's path (before the joints' blocks E_c are formed).
-  void AddFoldedConstraint(Constraint const& constraint, bool projectHessian) const;
+  /// A constraint taken into the tree (FoldConstraint): on the link,
+  /// which of its actor slots the link is; where it couples the link with
+  /// another body, that body's DoFs' places in couplingDofs_ and the coupled
+  /// link (coupledLinks_) it adds to.
+  struct FoldedConstraint {
+    Constraint* constraint = nullptr;
+    int linkSlot = 0;
+    int coupledLink = -1;
+    DynamicArray<int> couplingIndex;
+  };
+  /// A link coupled with other bodies: its path's DoFs (local), and at the
+  /// last assembly the link frame's Jacobian B over them ((δt; δθ) rows, as
+  /// internal::LinkPath) and the coupling W = H_lo, 6 × couplingDofs_, over
+  /// the link frame's increments: the scene's Hessian holds Cᵀ = Σ Bᵀ W
+  /// between the tree's DoFs and the other bodies'. The couplings' H_ll about
+  /// the link's joint origin (`stiffness`) joins own_ only in
+  /// FactorizeOwnBlock (`ownWithout`: own_ without it).
+  struct CoupledLink {
+    int link = -1;
+    DynamicArray<int> dofs;
+    Eigen::Matrix<real, 6, Eigen::Dynamic> jacobian, coupling;
+    Eigen::Matrix<real, 6, 6> stiffness, ownWithout;
+  };
+  /// own_ at the coupled links with (or without) their couplings' stiffness.
+  void JoinCouplingStiffness(bool join);
+  /// A folded constraint's terms: Jᵀ f into gradient_ (and couplingGradient_),
+  /// its stiffness at its link into own_, its curvature wrench into own_ and
+  /// the subtree sums along the link's path (before the joints' blocks E_c
+  /// are formed); a coupling's H_lo into its link's W, H_oo into
+  /// couplingHessian_.
+  void AddFoldedConstraint(FoldedConstraint const& folded, bool projectHessian) const;
+  /// The Schur complement's term C A⁻¹ Cᵀ = Σ_ℓ Σ_ℓ' W_ℓᵀ B_ℓ A⁻¹ B_ℓ'ᵀ W_ℓ'
+  /// into schurTerm_, with the last tree factorization: six tree solves per
+  /// coupled link.
+  void ComputeSchurTerm();
+  /// treeSolution_ ← A⁻¹ treeRhs_ with the last tree factorization.
+  void SolveTree();
+  /// B_ℓ treeSolution_: the coupled link frame's increments (δt; δθ).
+  Eigen::Matrix<real, 6, 1> LinkMotion(CoupledLink const& coupled) const;
   internal::ArticulatedTreeSolver::System TreeSystem() const;
   void SizeDenseBlock() const;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> own_, jointBlocks_;
@@ -306,8 +350,23 @@ class ArticulatedActor final : public Actor {
   internal::ArticulatedTreeSolver treeSolver_;
   /// single-body constraints on links taken into the tree (FoldConstraint),
   /// their workspace (sized when folded) and the scene's constraint Hessian
-  DynamicArray<Constraint*> folded_;
+  DynamicArray<FoldedConstraint> folded_;
   mutable internal::ConstraintWorkspace foldedWorkspace_;
+  /// per DoF: the folded constraints' link-frame curvature by column norms
+  /// (projected), added to the joints' diagonal blocks
+  mutable VectorX foldedDiagonal_;
+  // couplings with other bodies (a Schur complement of the tree's block;
+  // sized at FoldConstraint, at pattern builds)
+  mutable DynamicArray<CoupledLink> coupledLinks_;
+  DynamicArray<int> couplingDofs_;  ///< the other bodies' DoFs (global), one contributor
+  int numCoupled_ = 0;
+  mutable VectorX couplingGradient_;   ///< over couplingDofs_
+  mutable MatrixX couplingHessian_;    ///< H_oo, over couplingDofs_
+  MatrixX schurTerm_;                  ///< C A⁻¹ Cᵀ
+  Eigen::Matrix<real, Eigen::Dynamic, 6> schurColumns_;  ///< Σ_ℓ W_ℓᵀ B_ℓ A⁻¹ B_ℓ'ᵀ for one ℓ'
+  VectorX treeRhs_, treeSolution_;     ///< over the actor's DoFs
+  /// the tree's pivot modifications without the couplings' stiffness, per joint
+  DynamicArray<Eigen::Matrix<real, 6, 6>> pivotChanges_;
   int foldedMaxDimension_ = 1, foldedMaxDofs_ = 1;
   ConstraintHessian foldedSceneHessian_ = ConstraintHessian::GeometricStiffness;
   long modifiedTreeFactorizations_ = 0;

@@ -52,10 +52,12 @@ void ArticulatedTreeSolver::Reserve(int numJoints) {
   pivots_.resize(n);
 }
 
-bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDefinite, int* failedJoint) {
+bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDefinite, int* failedJoint,
+                                      Span<Matrix6> modifications) {
   int const numJoints = static_cast<int>(system.parent.size());
   if (static_cast<int>(articulated_.size()) != numJoints) Reserve(numJoints);
   modifiedPivots_ = 0;
+  for (Matrix6& modification : modifications) modification.setZero();
   auto const fail = [&](int joint) {
     if (failedJoint != nullptr) *failedJoint = joint;
     return false;
@@ -116,7 +118,9 @@ bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDef
             values[a] = std::max(values[a], 2 * modified * u.dot(metric.solve(u)));
           }
         }
+        Block const original = pivot;
         pivot.noalias() = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
+        if (!modifications.empty()) modifications[i].topLeftCorner(m, m) = pivot - original;
         pivots_[i].compute(pivot);
         ++modifiedPivots_;
         if (pivots_[i].info() != Eigen::Success || !(pivots_[i].matrixLLT().diagonal().minCoeff() > 0))

@@ -83,7 +83,11 @@ class ArticulatedTreeSolver {
   /// Cholesky of H by blocks), `failedJoint` then naming the joint; with
   /// `makePositiveDefinite` such pivots are modified instead (counted by
   /// GetNumModifiedPivots) and it fails only on non-finite values.
-  bool Factorize(System const& system, bool makePositiveDefinite = false, int* failedJoint = nullptr);
+  /// With `modifications` (one per joint), each modified pivot's change
+  /// D₊ᵢ − Dᵢ is written there (zero elsewhere): the factors are exactly
+  /// those of H + blockdiag(D₊ᵢ − Dᵢ), the changes in each joint's E_i.
+  bool Factorize(System const& system, bool makePositiveDefinite = false, int* failedJoint = nullptr,
+                 Span<Matrix6> modifications = {});
   /// x = H⁻¹ b with the last factorization; `system` is the one factorized.
   void Solve(System const& system, Span<real const> b, Span<real> x);
   int GetNumModifiedPivots() const { return modifiedPivots_; }

@@ -25,6 +25,21 @@ struct LinkPath {
   Real3 position = Real3::Zero();  ///< the link frame's origin t, world
   Quat rotation = Quat::Identity();
   Eigen::Matrix<real, 6, Eigen::Dynamic> jacobian;  ///< (δt; δθ) per DoF of `dofs`
+
+  /// The link frame's own curvature against a wrench (F at t, pure moment M)
+  /// on it, between path DoFs i and j: with the DoFs' columns (u; ω) of the
+  /// Jacobian, a the outer DoF (an ancestor's, or a free joint's translation
+  /// before its rotation), ∂²t/∂q_a∂q_b = ω_a × u_b and ∂²θ/∂q_a∂q_b =
+  /// ½ ω_a × ω_b; two rotations of one spherical or free joint (commuting to
+  /// second order in Exp) take the symmetric mean, ½ (ω_a × u_b + ω_b × u_a)
+  /// and 0. i <= j.
+  real Curvature(int i, int j, Real3 const& force, Real3 const& moment) const {
+    Real3 const ui = jacobian.col(i).head<3>(), wi = jacobian.col(i).tail<3>();
+    Real3 const uj = jacobian.col(j).head<3>(), wj = jacobian.col(j).tail<3>();
+    bool const sameJoint = dofLink[i] == dofLink[j] && dofRotates[i] && dofRotates[j];
+    return sameJoint ? 0.5 * force.dot(wi.cross(uj) + wj.cross(ui))
+                     : force.dot(wi.cross(uj)) + 0.5 * moment.dot(wi.cross(wj));
+  }
 };
 
 }  // namespace superdex::internal

@@ -191,6 +191,17 @@ class HessianAssembler {
       for (int b = a; b < n; ++b) matrix_.values[*slot++] = h(a, b);
   }
 
+  /// After FinishAssembly, in one part: adds h's upper triangle to contributor
+  /// c's entries (a term formed only after the assembly: an actor's Schur
+  /// complement, Actor::FactorizeOwnBlock).
+  template <class Derived>
+  void AddToAssembledBlock(int c, Eigen::MatrixBase<Derived> const& h) {
+    int const n = dofStart_[c + 1] - dofStart_[c];
+    int const* slot = slots_.data() + slotStart_[c];
+    for (int a = 0; a < n; ++a)
+      for (int b = a; b < n; ++b) matrix_.values[*slot++] += h(a, b);
+  }
+
   SparseSymmetricMatrix const& GetMatrix() const { return matrix_; }
 
   /// ordered[perm[i]] = natural[i]

@@ -73,7 +73,9 @@ void ConstraintWorkspace::Reserve(int maxDimension, int maxDofs) {
   r.resize(std::max(maxDofs, maxDimension));
   jacobian.resize(maxDimension, maxDofs);
   hessian.resize(maxDofs, maxDofs);
-  curvature.resize(maxDofs, maxDofs);
+  // (also the type's curvature of a folded constraint: up to kMaxDofs, more
+  // than a short path's n)
+  curvature.resize(std::max(maxDofs, kMaxDofs), std::max(maxDofs, kMaxDofs));
   typeJacobian.resize(maxDimension, kMaxDofs);
   linkMap.resize(kMaxDofs, maxDofs);
   product.resize(kMaxDofs, maxDofs);
@@ -369,11 +371,7 @@ void Constraint::AddCurvature(Span<real const> target, Eigen::Ref<VectorX const>
   product.noalias() = ws.typeCurvature * map;
   hessian.noalias() += map.transpose() * product;
   // each link frame's own curvature against the type's wrench (F; M) = J_typeᵀ w
-  // on it: with the DoFs' columns (u; ω) of the frame's Jacobian, a the
-  // outer DoF (an ancestor's, or a free joint's translation before its
-  // rotation), ∂²t/∂q_a∂q_b = ω_a × u_b and ∂²θ/∂q_a∂q_b = ½ ω_a × ω_b;
-  // two rotations of one spherical or free joint (commuting to second
-  // order in Exp) take the symmetric mean, ½ (ω_a × u_b + ω_b × u_a) and 0
+  // on it (internal::LinkPath::Curvature)
   auto const typeJacobian = ws.typeJacobian.topLeftCorner(m, k);
   for (int a = 0, typeColumn = 0, column = 0; a < numActors_; ++a) {
     int const size = static_cast<int>(localDofs_[a].size());
@@ -387,12 +385,8 @@ void Constraint::AddCurvature(Span<real const> target, Eigen::Ref<VectorX const>
     Real3 const force = wrench.head<3>(), moment = wrench.tail<3>();
     internal::LinkPath const& path = paths_[a];
     for (int i = 0; i < size; ++i) {
-      Real3 const ui = path.jacobian.col(i).head<3>(), wi = path.jacobian.col(i).tail<3>();
       for (int j = i; j < size; ++j) {
-        Real3 const uj = path.jacobian.col(j).head<3>(), wj = path.jacobian.col(j).tail<3>();
-        bool const sameJoint = path.dofLink[i] == path.dofLink[j] && path.dofRotates[i] && path.dofRotates[j];
-        real const value = sameJoint ? 0.5 * force.dot(wi.cross(uj) + wj.cross(ui))
-                                     : force.dot(wi.cross(uj)) + 0.5 * moment.dot(wi.cross(wj));
+        real const value = path.Curvature(i, j, force, moment);
         hessian(column + i, column + j) += value;
         if (j != i) hessian(column + j, column + i) += value;
       }
@@ -507,33 +501,48 @@ void Constraint::AddGradientAndHessian(real h, internal::HessianAssembler& assem
   assembler.AddBlock(contributor, hessian);
 }
 
-bool Constraint::AddFoldedTerms(real h, ConstraintHessian sceneHessian, bool projectHessian,
-                                internal::ConstraintWorkspace& ws, Eigen::Matrix<real, 6, 6>& hessian,
-                                Eigen::Matrix<real, 6, 1>& curvatureWrench) const {
-  hessian.setZero();
+int Constraint::FoldableLinkSlot() const {
+  if (numActors_ == 1) return links_[0] >= 0 ? 0 : -1;
+  if ((links_[0] >= 0) == (links_[1] >= 0)) return -1;  // two links, or none
+  return links_[0] >= 0 ? 0 : 1;
+}
+
+bool Constraint::AddFoldedTerms(real h, ConstraintHessian sceneHessian, bool projectHessian, int linkSlot,
+                                internal::ConstraintWorkspace& ws, internal::ConstraintWorkspace::FoldedBlock& hessian,
+                                Eigen::Matrix<real, 6, 1>& curvatureWrench, bool& exactCurvature) const {
+  int const other = numActors_ == 2 ? 1 - linkSlot : -1;
+  int const numOther = other >= 0 ? static_cast<int>(localDofs_[other].size()) : 0;
+  hessian.setZero(6 + numOther, 6 + numOther);
   curvatureWrench.setZero();
+  exactCurvature = false;
   real const scale = Linearize(h, ws);
   if (scale < 0) return false;
-  // the type's Hessian over its rigid DoFs on the link, embedded in the six
+  // the type's Hessian over its DoFs (slot order: the link's rigid DoFs, a
+  // subset of the six, and the other body's), placed at the link frame's
+  // six increments and then the other body's DoFs
   int const m = dimension_, k = typeNumDofs_;
   auto const typeJacobian = ws.typeJacobian.topLeftCorner(m, k);
+  DynamicArray<int> const& rigid = typeDofs_[linkSlot];
+  int const numRigid = static_cast<int>(rigid.size());
+  int const linkColumn = linkSlot == 0 ? 0 : numOther;  // the link's first type column
+  auto place = [&](int c) {
+    return c >= linkColumn && c < linkColumn + numRigid ? rigid[c - linkColumn] : 6 + (c < linkColumn ? c : c - numRigid);
+  };
   ws.typeCurvature.noalias() = scale * typeJacobian.transpose() * typeJacobian;
   ConstraintHessian const mode = HessianMode(sceneHessian);
-  DynamicArray<int> const& rigid = typeDofs_[0];
   if (mode != ConstraintHessian::GaussNewton) {
     Eigen::Ref<VectorX const> const weights = CurvatureWeights(ws);
-    // (ws.curvature's corner: the type's curvature over its rigid DoFs)
+    // (ws.curvature's corner: the type's curvature over its DoFs)
     auto curvature = ws.curvature.topLeftCorner(k, k);
     curvature.setZero();
     DoAddCurvature(target_, weights, curvature);
     bool const diagonal = projectHessian || mode == ConstraintHessian::GeometricStiffnessDiagonal;
     AddCurvatureTerm(curvature, diagonal, ws.typeCurvature);
-    // the frame's own curvature only with the exact G
-    if (!diagonal)
-      for (int c = 0; c < k; ++c) curvatureWrench[rigid[c]] = typeJacobian.col(c).dot(weights);
+    exactCurvature = !diagonal;
+    for (int c = 0; c < numRigid; ++c) curvatureWrench[rigid[c]] = typeJacobian.col(linkColumn + c).dot(weights);
   }
   for (int a = 0; a < k; ++a)
-    for (int b = 0; b < k; ++b) hessian(rigid[a], rigid[b]) = ws.typeCurvature(a, b);
+    for (int b = 0; b < k; ++b) hessian(place(a), place(b)) = ws.typeCurvature(a, b);
   return true;
 }
 

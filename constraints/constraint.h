@@ -92,10 +92,14 @@ struct ConstraintWorkspace {
   /// constraint's n is larger (its path's joint DoFs), its type's is not.
   static constexpr int kMaxDofs = 12;
   using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDofs, kMaxDofs>;
+  /// A constraint folded into an articulated link (Constraint::AddFoldedTerms):
+  /// the link frame's six increments and the other body's DoFs (at most
+  /// kMaxDofs: a rod element's eight)
+  using FoldedBlock = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6 + kMaxDofs, 6 + kMaxDofs>;
 
   VectorX g, f, r;
   MatrixX jacobian, hessian;
-  MatrixX curvature;  ///< G over the constraint's n DoFs
+  MatrixX curvature;  ///< G over the constraint's n DoFs (or a folded type's, at most kMaxDofs)
   // a constraint on articulated links: the type's J and G over its rigid
   // DoFs, the map from the constraint's DoFs to them, and a product
   MatrixX typeJacobian, linkMap, product;
@@ -271,9 +275,12 @@ class Constraint {
   void AddCurvature(Span<real const> target, Eigen::Ref<VectorX const> const& weights,
                     internal::ConstraintWorkspace& ws, Eigen::Ref<MatrixX> hessian) const;
   bool HasLinks() const { return links_[0] >= 0 || links_[1] >= 0; }
-  /// True for a constraint whose only body is an articulated link: the
-  /// actor's tree recursion can take it (AddFoldedTerms).
-  bool IsFoldableIntoLink() const { return numActors_ == 1 && links_[0] >= 0; }
+  /// The actor slot of the articulated link the actor's tree recursion can
+  /// take this constraint into (AddFoldedTerms), or −1: a single-body
+  /// constraint on a link, or a two-body one between a link and a body that
+  /// is not a link (a rigid body, a deformable node, a rod element; the
+  /// actor then couples its tree with those DoFs by a Schur complement).
+  int FoldableLinkSlot() const;
   /// Newton's linearization at the current iterate, recorded for the force
   /// predictions: ws.g, ws.jacobian (Evaluate), ws.f = f(g) and ws.r = Jᵀ f;
   /// returns the Gauss–Newton scale κ + d/h, or −1 for an inactive range
@@ -288,18 +295,22 @@ class Constraint {
   /// hessian += G, or with `diagonal` the diagonal of G's column norms (PSD).
   static void AddCurvatureTerm(Eigen::Ref<MatrixX const> const& curvature, bool diagonal,
                                Eigen::Ref<MatrixX> hessian);
-  /// A constraint folded into its articulated actor's tree (IsFoldableIntoLink;
-  /// the actor calls this in its assembly instead of the scene's constraint
-  /// loop): the gradient Jᵀ f over the constraint's DoFs in ws.r, and, over
-  /// the link frame's increments (δt; δθ), the Hessian H = (κ + d/h) J_typeᵀ
-  /// J_type + G_type (G's diagonal column norms when projecting or with
-  /// GeometricStiffnessDiagonal; none for GaussNewton) in `hessian` and the
-  /// wrench (F; M) = J_typeᵀ w that weighs the link frame's own curvature in
-  /// `curvatureWrench` (zero where G is not used exactly). Returns false when
-  /// it adds nothing (an inactive range constraint).
-  bool AddFoldedTerms(real h, ConstraintHessian sceneHessian, bool projectHessian,
-                      internal::ConstraintWorkspace& ws, Eigen::Matrix<real, 6, 6>& hessian,
-                      Eigen::Matrix<real, 6, 1>& curvatureWrench) const;
+  /// A constraint folded into its articulated actor's tree (FoldableLinkSlot
+  /// `linkSlot`; the actor calls this in its assembly instead of the scene's
+  /// constraint loop): the gradient Jᵀ f over the constraint's DoFs in ws.r
+  /// (slot order), and the Hessian H = (κ + d/h) J_typeᵀ J_type + G_type (G's
+  /// diagonal column norms when projecting or with GeometricStiffnessDiagonal;
+  /// none for GaussNewton) in `hessian`, (6 + n_o)², over the link frame's
+  /// increments (δt; δθ) first and then the other body's n_o DoFs in their
+  /// list order (n_o = 0 for a single-body constraint); the wrench
+  /// (F; M) = J_typeᵀ w on the link that weighs the link frame's own
+  /// curvature in `curvatureWrench` (zero for GaussNewton), with
+  /// `exactCurvature` false where that curvature is to be taken by its
+  /// column norms (as G's). Returns false when it adds nothing (an inactive
+  /// range constraint).
+  bool AddFoldedTerms(real h, ConstraintHessian sceneHessian, bool projectHessian, int linkSlot,
+                      internal::ConstraintWorkspace& ws, internal::ConstraintWorkspace::FoldedBlock& hessian,
+                      Eigen::Matrix<real, 6, 1>& curvatureWrench, bool& exactCurvature) const;
 
   // stage interface
   /// Records g(qᵢ⁰, p̂ᵢ⁰) and this stage's compliant parameters: with

@@ -692,6 +692,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.linearIterations = 0;
   stats_.linearSolves = 0;
   stats_.projectionFallbacks = 0;
+  stats_.separateCouplingRetries = 0;
   stats_.roundOffConvergences = 0;
   stats_.lineSearchExpansions = 0;
   stats_.diagonalShifts = 0;

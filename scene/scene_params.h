@@ -160,6 +160,10 @@ struct SceneStats {
   int newtonIterations = 0;
   int linearIterations = 0;        ///< CG iterations: PCG, and direct solvers' reused-factor solves
   int projectionFallbacks = 0;     ///< Newton iterations re-assembled with projected Hessians
+  /// Projected Newton iterations re-assembled once more with the articulated
+  /// actors' blocks modified apart from their couplings with other bodies
+  /// (the Schur complement of the modified sum was not positive definite)
+  int separateCouplingRetries = 0;
   /// Refactorizations of a projected Hessian that failed by round-off, with
   /// its diagonal shifted (1e-8 |Hⱼⱼ|, then ×100 up to 1e-2)
   int diagonalShifts = 0;

@@ -95,6 +95,9 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
       ownBlockContributors_.push_back(firstContributor_[a]);
     }
   ownBlockRhs_.setZero(ownBlockActors_.empty() ? 0 : numDofs);
+  ownBlocksCoupled_ = false;
+  for (Actor* actor : ownBlockActors_) ownBlocksCoupled_ = ownBlocksCoupled_ || actor->HasOwnBlockCoupling();
+  schurRhs_.setZero(ownBlocksCoupled_ ? numDofs : 0);
   constraintWorkspace_.Reserve(maxDimension, maxDofs);
   maxConstraintDimension_ = maxDimension;
   maxConstraintDofs_ = maxDofs;
@@ -135,8 +138,10 @@ void StageSolver::ChooseOwnBlockSolves(DynamicArray<Actor*> const& actors,
   // in one process, an actor that can solve its own block does, unless a
   // constraint on it reaches another actor or more than one of its groups
   // (joints): that coupling needs the block in the scene's matrix. A
-  // single-body constraint on an articulated link is taken into the
-  // actor's own block instead (folded: Actor::FoldConstraint)
+  // constraint on an articulated link, alone or with a body that is not a
+  // link, is taken into the actor's own block instead (folded:
+  // Actor::FoldConstraint; with another body, coupled by the block's Schur
+  // complement)
   for (Actor* actor : actors) {
     actor->SetSolvesOwnBlock(!IsDistributed() && actor->CanSolveOwnBlock());
     actor->ClearFoldedConstraints();
@@ -147,7 +152,7 @@ void StageSolver::ChooseOwnBlockSolves(DynamicArray<Actor*> const& actors,
     for (int i = 0; i < constraint->GetNumActors(); ++i) {
       Actor* actor = constraint->GetActor(i);
       if (actor == nullptr || !actor->SolvesOwnBlock()) continue;
-      if (constraint->IsFoldableIntoLink()) {
+      if (constraint->FoldableLinkSlot() == i) {
         foldable.push_back(constraint);
         continue;
       }
@@ -169,17 +174,18 @@ void StageSolver::ChooseOwnBlockSolves(DynamicArray<Actor*> const& actors,
   // folded where the actor still solves its own block (another constraint
   // may have coupled it since)
   for (Constraint* constraint : foldable) {
-    Actor* actor = constraint->GetActor(0);
+    Actor* actor = constraint->GetActor(constraint->FoldableLinkSlot());
     if (actor->SolvesOwnBlock() && actor->FoldConstraint(constraint)) constraint->foldedInto_ = actor;
   }
 }
 
-LinearSolveResult StageSolver::FactorizeOwnBlocks(bool project, SceneStats& stats) {
+LinearSolveResult StageSolver::FactorizeOwnBlocks(bool project, bool separateCouplings, SceneStats& stats) {
   LinearSolveResult result;
   if (ownBlockActors_.empty()) return result;
   auto const start = Clock::now();
   for (std::size_t a = 0; a < ownBlockActors_.size(); ++a)
-    if (!ownBlockActors_[a]->FactorizeOwnBlock(assembler_, ownBlockContributors_[a], project, result.reason)) {
+    if (!ownBlockActors_[a]->FactorizeOwnBlock(assembler_, ownBlockContributors_[a], project, separateCouplings,
+                                               result.reason)) {
       result.status = LinearSolveStatus::NotPositiveDefinite;
       if (project && result.reason.empty()) result.reason = "an actor's own block is not positive definite";
       break;
@@ -340,6 +346,15 @@ LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats, bool resume)
 }
 
 void StageSolver::OrderNewtonRhs() {
+  if (ownBlocksCoupled_) {
+    // an own block coupled with other DoFs: the matrix holds its Schur
+    // complement there, and the right-hand side is the complement's
+    schurRhs_ = -gradient_;
+    for (Actor* actor : ownBlockActors_) actor->EliminateOwnBlockFromRhs(Span<real>(schurRhs_.data(), schurRhs_.size()));
+    assembler_.PermuteToOrdered(Span<real const>(schurRhs_.data(), schurRhs_.size()),
+                                Span<real>(orderedRhs_.data(), orderedRhs_.size()));
+    return;
+  }
   assembler_.PermuteToOrdered(Span<real const>(gradient_.data(), gradient_.size()),
                               Span<real>(orderedRhs_.data(), orderedRhs_.size()));
   orderedRhs_ = -orderedRhs_;
@@ -552,6 +567,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     bool project = newton.hessianProjection == HessianProjection::Always;
     bool forcingSet = false;
     bool ownBlocksFailed = false;  ///< an actor's own block, not the matrix: no diagonal shift helps
+    bool separateCouplings = false;  ///< own blocks modified apart from their couplings (last resort)
     for (;;) {
       auto start = Clock::now();
       assembler_.BeginAssembly(gradient);
@@ -603,7 +619,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       // actors that solve their own blocks first (their blocks in the
       // matrix become the identity): a block that is not positive definite
       // sends the iteration to the projected retry like the matrix would
-      LinearSolveResult ownBlocks = FactorizeOwnBlocks(project, stats);
+      LinearSolveResult ownBlocks = FactorizeOwnBlocks(project, separateCouplings, stats);
       ownBlocksFailed = !ownBlocks.Ok();
       if (ownBlocksFailed) {
         result = std::move(ownBlocks);
@@ -617,8 +633,16 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
         if (result.Ok()) result = SolveNewtonSystem(stats);
       }
       bool const notDescent = Usable(result) && !(gradient_.dot(delta_) < 0);
-      if (project || (result.status != LinearSolveStatus::NotPositiveDefinite && !notDescent))
-        break;
+      bool const indefinite = result.status == LinearSolveStatus::NotPositiveDefinite || notDescent;
+      // an own block coupled with other DoFs whose modified sum left the
+      // Schur complement indefinite: once more, the block modified apart
+      // from its couplings (positive definite with projected couplings)
+      if (project && indefinite && ownBlocksCoupled_ && !ownBlocksFailed && !separateCouplings) {
+        separateCouplings = true;
+        ++stats.separateCouplingRetries;
+        continue;
+      }
+      if (project || !indefinite) break;
       project = true;
       ++stats.projectionFallbacks;
     }

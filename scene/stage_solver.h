@@ -72,7 +72,7 @@ class StageSolver {
                             DynamicArray<Constraint*> const& constraints) const;
   /// Actor::FactorizeOwnBlock for those actors, after an assembly (timed as
   /// factorization in `stats`); NotPositiveDefinite when one fails.
-  LinearSolveResult FactorizeOwnBlocks(bool project, SceneStats& stats);
+  LinearSolveResult FactorizeOwnBlocks(bool project, bool separateCouplings, SceneStats& stats);
   /// Their parts of delta_ from −gradient_, after the matrix's solve.
   void SolveOwnBlocks();
   /// Factorizes the assembled matrix (counted and timed in `stats`).
@@ -85,7 +85,8 @@ class StageSolver {
   /// H δ = −∇E with the current factorization/set-up: permutes the gradient,
   /// solves, permutes δ back; adds the solve time and iterations to `stats`.
   LinearSolveResult SolveNewtonSystem(SceneStats& stats, bool resume = false);
-  /// orderedRhs_ = −∇E in the fill-reducing order (both solve paths).
+  /// orderedRhs_ = −∇E in the fill-reducing order (both solve paths); where
+  /// an actor's own block is coupled, the Schur complement's right-hand side.
   void OrderNewtonRhs();
   /// NewtonParams::reuseFactorization: solves H δ = −∇E by CG preconditioned
   /// with the direct solver's last factorization (of an earlier matrix).
@@ -130,6 +131,10 @@ class StageSolver {
   DynamicArray<Actor*> ownBlockActors_;  ///< the actors that solve their own blocks
   DynamicArray<int> ownBlockContributors_;  ///< and their first contributors
   VectorX ownBlockRhs_;  ///< −∇E for their solves (natural order)
+  /// some own block is coupled with other DoFs (Actor::HasOwnBlockCoupling):
+  /// the right-hand side of the Schur complement (natural order) in schurRhs_
+  bool ownBlocksCoupled_ = false;
+  VectorX schurRhs_;
   VectorX gradient_, delta_, orderedRhs_, orderedSolution_;
   VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction
   VectorX dofLengthScales_;  ///< ℓⱼ per DoF (Actor::WriteDofLengthScales)

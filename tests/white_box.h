@@ -110,7 +110,7 @@ struct ActorTestAccess {
   static void SetSolvesOwnBlock(Actor& a, bool solves) { a.SetSolvesOwnBlock(solves); }
   static bool FactorizeOwnBlock(Actor& a, HessianAssembler& assembler, int firstContributor, bool projectHessian,
                                 std::string& reason) {
-    return a.FactorizeOwnBlock(assembler, firstContributor, projectHessian, reason);
+    return a.FactorizeOwnBlock(assembler, firstContributor, projectHessian, /*separateCouplings=*/false, reason);
   }
   static void SolveOwnBlock(Actor& a, Span<real const> rhs, Span<real> delta) { a.SolveOwnBlock(rhs, delta); }
 };

@@ -298,7 +298,9 @@ def test_an_articulated_link_holds_a_rigid_body():
     # (~m g/k plus the swing's centripetal load) is below 1e-5 m
     assert np.linalg.norm(joint.get_deviation()) < 1e-5
     assert ball.get_position()[1] < -0.5  # it swung down
-    assert not arm.is_solved_on_tree()  # the coupling puts the arm's block in the scene's matrix
+    # the coupling through the tree's Schur complement: the ball's six DoFs
+    assert arm.is_solved_on_tree()
+    assert arm.get_num_coupled_constraints() == 1 and arm.get_num_coupled_dofs() == 6
 
 
 def test_articulated_targets_and_ranges_drive_a_spherical_joint():

@@ -231,16 +231,22 @@ TEST_CASE("steps with the near-rigid cap allocate nothing", "[scene][allocation]
 TEST_CASE("steps with constraints on articulated links allocate nothing", "[scene][allocation][articulated]") {
   // the 40-link chain's tip link holding a rigid ball (RigidSphericalJoint,
   // JointRotationTracking with the geometric stiffness) and a tet block's
-  // node (DeformableNodeToRigid): each constraint's link frame, its J and
-  // curvature mapped onto the 120 path DoFs, on the dense block (projected:
-  // see above for CHOLMOD's message on an indefinite first iteration)
+  // node (DeformableNodeToRigid): on the tree, coupled with the ball and
+  // the node by its Schur complement (exact and projected Hessians); on the
+  // dense block, each constraint's J and curvature mapped onto the 120 path
+  // DoFs (projected: see above for CHOLMOD's message on an indefinite first
+  // iteration)
+  ArticulatedBlockSolve const solve = GENERATE(ArticulatedBlockSolve::Tree, ArticulatedBlockSolve::Dense);
+  HessianProjection const projection = GENERATE(HessianProjection::WhenIndefinite, HessianProjection::Always);
+  if (solve == ArticulatedBlockSolve::Dense && projection != HessianProjection::Always) return;
+  CAPTURE(static_cast<int>(solve), static_cast<int>(projection));
   SceneParams params;
   params.integrator = IntegratorType::Bdf2;
-  params.newton.hessianProjection = HessianProjection::Always;
+  params.newton.hessianProjection = projection;
   params.newton.constraintHessian = ConstraintHessian::GeometricStiffness;
   auto scene = MakeScene(params);
   int const n = 40;
-  ArticulatedActorParams const chain = SphericalChain(n);
+  ArticulatedActorParams const chain = SphericalChain(n, solve);
   Error error;
   ArticulatedActor* actor = MakeArticulated(*scene, chain);
   RigidActorParams body;
@@ -270,7 +276,11 @@ TEST_CASE("steps with constraints on articulated links allocate nothing", "[scen
   REQUIRE(held);
   REQUIRE(held->RegisterQuery(QueryType::ConstraintForce, error));
   StepOk(*scene, 1e-2, 2);
-  REQUIRE_FALSE(actor->IsSolvedOnTree());
+  REQUIRE(actor->IsSolvedOnTree() == (solve == ArticulatedBlockSolve::Tree));
+  if (solve == ArticulatedBlockSolve::Tree) {
+    REQUIRE(actor->GetNumCoupledConstraints() == 3);
+    REQUIRE(actor->GetNumCoupledDofs() == 9);  // the ball's six, the node's three
+  }
   RequireStepsAllocateNothing(*scene, 1e-2, 10);
 }
 

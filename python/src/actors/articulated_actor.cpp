@@ -62,6 +62,11 @@ void DefineArticulatedActor(py::module_& m) {
       .def("get_block_solve", Forward<Ref>(&A::GetBlockSolve))
       .def("is_solved_on_tree", Forward<Ref>(&A::IsSolvedOnTree),
            "True while the stage solver solves the actor by the tree recursion (after a step).")
+      .def("get_num_coupled_constraints", Forward<Ref>(&A::GetNumCoupledConstraints),
+           "Constraints between a link and another body coupled to the scene's matrix by the tree's Schur "
+           "complement (as of the last pattern build).")
+      .def("get_num_coupled_dofs", Forward<Ref>(&A::GetNumCoupledDofs),
+           "The other bodies' DoFs those couplings reach (their dense block in the scene's matrix).")
       .def("get_num_modified_tree_factorizations", Forward<Ref>(&A::GetNumModifiedTreeFactorizations),
            "Tree factorizations made positive definite (indefinite exact Hessian) since creation.")
       .def("get_joint_type", ForwardIndexed<Ref>(&A::GetJointType, links, "link"), py::arg("link"))

@@ -105,6 +105,9 @@ void DefineSceneParams(py::module_& m) {
                     "last step: CG iterations (PCG, and direct solvers' reused-factor solves)")
       .def_readonly("projection_fallbacks", &T::projectionFallbacks,
                     "last step: Newton iterations re-assembled with projected Hessians")
+      .def_readonly("separate_coupling_retries", &T::separateCouplingRetries,
+                    "last step: projected Newton iterations re-assembled with the articulated actors' "
+                    "blocks modified apart from their couplings with other bodies")
       .def_readonly("round_off_convergences", &T::roundOffConvergences,
                     "last step: stages converged on a Newton decrement at the round-off floor of "
                     "the energy, not on the step norm")
