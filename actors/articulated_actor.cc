@@ -893,12 +893,13 @@ void ArticulatedActor::AddFoldedConstraint(FoldedConstraint const& folded, bool 
   if (!constraint.AddFoldedTerms(stage_.duration, foldedSceneHessian_, projectHessian, slot, ws, hessian, wrench,
                                  exactCurvature))
     return;
-  // the gradient Jᵀ f (ws.r, slot order) on the path's DoFs and the other body's
+  // the gradient Jᵀ f (ws.r, over the constraint's DoF list) on the path's
+  // DoFs and the other body's
   Span<int const> const dofs = constraint.GetDofIndicesForActor(slot);
+  DynamicArray<int> const& pathColumns = constraint.slotColumns_[slot];
   int const numPath = static_cast<int>(dofs.size());
   int const numOther = static_cast<int>(folded.couplingIndex.size());
-  int const pathColumn = slot == 0 ? 0 : numOther, otherColumn = slot == 0 ? numPath : 0;
-  for (int j = 0; j < numPath; ++j) gradient_[dofs[j] - dofOffset_] += ws.r[pathColumn + j];
+  for (int j = 0; j < numPath; ++j) gradient_[dofs[j] - dofOffset_] += ws.r[pathColumns[j]];
   int const link = constraint.links_[slot];
   if (numOther > 0) {
     // the coupling: H_lo into the link's W (and the link frame's Jacobian
@@ -907,7 +908,7 @@ void ArticulatedActor::AddFoldedConstraint(FoldedConstraint const& folded, bool 
     coupled.jacobian = constraint.paths_[slot].jacobian;
     for (int j = 0; j < numOther; ++j) {
       int const cj = folded.couplingIndex[j];
-      couplingGradient_[cj] += ws.r[otherColumn + j];
+      couplingGradient_[cj] += ws.r[constraint.slotColumns_[1 - slot][j]];
       coupled.coupling.col(cj) += hessian.block<6, 1>(0, 6 + j);
       for (int i = 0; i < numOther; ++i) couplingHessian_(folded.couplingIndex[i], cj) += hessian(6 + i, 6 + j);
     }

@@ -112,14 +112,24 @@ Actor* Constraint::GetActor(int i) const { return (i >= 0 && i < numActors_) ? a
 
 Span<int const> Constraint::GetDofIndicesForActor(int i) const {
   if (i < 0 || i >= numActors_) return {};
-  std::size_t const first = (i == 0) ? 0 : localDofs_[0].size();
-  return Span<int const>(dofs_).subspan(first, localDofs_[i].size());
+  return slotDofs_[i];
 }
 
 void Constraint::RefreshDofs() {
+  // actor 0's DoFs, then actor 1's not listed yet (two links of one
+  // articulated actor share their paths' common DoFs: one column each)
   dofs_.clear();
-  for (int a = 0; a < numActors_; ++a)
-    for (int local : localDofs_[a]) dofs_.push_back(actors_[a]->GetDofOffset() + local);
+  for (int a = 0; a < numActors_; ++a) {
+    slotDofs_[a].clear();
+    slotColumns_[a].clear();
+    for (int local : localDofs_[a]) {
+      int const dof = actors_[a]->GetDofOffset() + local;
+      auto const found = std::find(dofs_.begin(), dofs_.end(), dof);
+      slotDofs_[a].push_back(dof);
+      slotColumns_[a].push_back(static_cast<int>(found - dofs_.begin()));
+      if (found == dofs_.end()) dofs_.push_back(dof);
+    }
+  }
 }
 
 bool Constraint::SetStiffness(real stiffness, Error& error) {
@@ -343,15 +353,18 @@ void Constraint::Evaluate(Span<real const> target, internal::ConstraintWorkspace
   DoEvaluate(target, ws.g.head(m), typeJacobian);
   auto map = ws.linkMap.topLeftCorner(k, n);
   map.setZero();
-  for (int a = 0, row = 0, column = 0; a < numActors_; ++a) {
-    int const size = static_cast<int>(localDofs_[a].size());
+  // (a DoF on both links' paths, a kinematic loop, sums its two columns)
+  for (int a = 0, row = 0; a < numActors_; ++a) {
+    DynamicArray<int> const& columns = slotColumns_[a];
+    int const size = static_cast<int>(columns.size());
     if (links_[a] < 0) {
-      map.block(row, column, size, size).setIdentity();
-      row += size;
+      for (int j = 0; j < size; ++j) map(row++, columns[j]) = 1;
     } else {
-      for (int local : typeDofs_[a]) map.row(row++).segment(column, size) = paths_[a].jacobian.row(local);
+      for (int local : typeDofs_[a]) {
+        for (int j = 0; j < size; ++j) map(row, columns[j]) += paths_[a].jacobian(local, j);
+        ++row;
+      }
     }
-    column += size;
   }
   ws.jacobian.topLeftCorner(m, n).noalias() = typeJacobian * map;
 }
@@ -373,11 +386,11 @@ void Constraint::AddCurvature(Span<real const> target, Eigen::Ref<VectorX const>
   // each link frame's own curvature against the type's wrench (F; M) = J_typeᵀ w
   // on it (internal::LinkPath::Curvature)
   auto const typeJacobian = ws.typeJacobian.topLeftCorner(m, k);
-  for (int a = 0, typeColumn = 0, column = 0; a < numActors_; ++a) {
-    int const size = static_cast<int>(localDofs_[a].size());
+  for (int a = 0, typeColumn = 0; a < numActors_; ++a) {
+    DynamicArray<int> const& columns = slotColumns_[a];
+    int const size = static_cast<int>(columns.size());
     if (links_[a] < 0) {
       typeColumn += size;
-      column += size;
       continue;
     }
     Eigen::Matrix<real, 6, 1> wrench = Eigen::Matrix<real, 6, 1>::Zero();
@@ -387,11 +400,10 @@ void Constraint::AddCurvature(Span<real const> target, Eigen::Ref<VectorX const>
     for (int i = 0; i < size; ++i) {
       for (int j = i; j < size; ++j) {
         real const value = path.Curvature(i, j, force, moment);
-        hessian(column + i, column + j) += value;
-        if (j != i) hessian(column + j, column + i) += value;
+        hessian(columns[i], columns[j]) += value;
+        if (j != i) hessian(columns[j], columns[i]) += value;
       }
     }
-    column += size;
   }
 }
 

@@ -360,7 +360,11 @@ class Constraint {
   ConstraintHessian hessian_ = ConstraintHessian::SceneDefault;
   std::array<Actor*, 2> actors_{};
   std::array<DynamicArray<int>, 2> localDofs_;
-  DynamicArray<int> dofs_;  ///< global DoF list (actor 0's, then actor 1's)
+  /// global DoF list: actor 0's, then actor 1's not listed yet (two links of
+  /// one articulated actor, a kinematic loop, share their common path DoFs)
+  DynamicArray<int> dofs_;
+  /// per actor: its DoFs (global; GetDofIndicesForActor) and their columns in dofs_
+  std::array<DynamicArray<int>, 2> slotDofs_, slotColumns_;
   /// per actor: the link it is (−1: the actor itself), the type's rigid DoFs
   /// on it where it is a link, and the link's path and frame
   std::array<int, 2> links_{-1, -1};

@@ -349,14 +349,17 @@ bool Scene::GetRigidPair(Params const& p, std::string_view paramsName, internal:
   if (!GetRigidBody(p.actorA, p.linkA, paramsName, "actorA", "linkA", a, error) ||
       !GetRigidBody(p.actorB, p.linkB, paramsName, "actorB", "linkB", b, error))
     return false;
-  if (a.actor == b.actor) {
-    // two links of one articulated actor would close a loop in its tree:
-    // their paths share DoFs, which a constraint's DoF list cannot repeat
+  // two links of one articulated actor close a kinematic loop (their paths'
+  // common DoFs appear once in the constraint's DoF list); one body twice
+  // is refused
+  if (a.actor == b.actor && a.link < 0) {
     error.Set(ErrorCode::InvalidArgument,
-              std::string(paramsName) + ".actorB must differ from actorA, both are " + HandleText(p.actorA) +
-                  (a.link >= 0 ? " (a constraint between two links of one articulated actor, closing a loop, "
-                                 "is not supported)"
-                               : ""));
+              std::string(paramsName) + ".actorB must differ from actorA, both are " + HandleText(p.actorA));
+    return false;
+  }
+  if (a.actor == b.actor && a.link == b.link) {
+    error.Set(ErrorCode::InvalidArgument, std::string(paramsName) + ".linkB must differ from linkA on one " +
+                                              "articulated actor, both are " + std::to_string(p.linkA));
     return false;
   }
   return true;

@@ -259,6 +259,104 @@ TEST_CASE("every rigid constraint type on an articulated link: g, J and the curv
   CheckCurvature(*c, true);
 }
 
+TEST_CASE("a pair type between two links of one tree (a kinematic loop): its DoFs are the union of the two paths, "
+          "J and the curvature match central differences",
+          "[constraints][derivatives][articulated]") {
+  // links 3 and 4 share the free root's six DoFs: each appears once, its
+  // column the sum of the two links' (translations of the root move both
+  // bodies alike and leave relative measures unchanged: zero columns)
+  Kind const kind = static_cast<Kind>(GENERATE(range(static_cast<int>(Kind::SphericalJoint),
+                                                     static_cast<int>(Kind::RotationTracking) + 1)));
+  bool const swapped = GENERATE(false, true);
+  CAPTURE(ToString(kind), swapped);
+  LinkScene s = MakeLinkScene();
+  Error error;
+  int const linkA = swapped ? 4 : 3, linkB = swapped ? 3 : 4;
+  Constraint* c = nullptr;
+  ActorHandle const tree = s.tree->GetHandle();
+  Quat const frame = QuatOfRotationVector(Real3(0.3, -0.5, 0.8));
+  switch (kind) {
+    case Kind::SphericalJoint: {
+      RigidSphericalJointConstraintParams p;
+      p.actorA = p.actorB = tree;
+      p.linkA = linkA;
+      p.linkB = linkB;
+      p.localPosA = kPivotA;
+      p.localPosB = kPivotB;
+      p.stiffness = 1e3;
+      c = s.scene->CreateRigidSphericalJointConstraint(p, error);
+      break;
+    }
+    case Kind::PrismaticJoint: {
+      RigidPrismaticJointConstraintParams p;
+      p.actorA = p.actorB = tree;
+      p.linkA = linkA;
+      p.linkB = linkB;
+      p.jointFrame = frame;
+      p.offsetAroundRest = false;
+      p.referenceOffset = Real3(0.1, -0.2, 0.3);
+      p.lowerLimit = p.upperLimit = 5;
+      p.stiffness = 1e3;
+      c = s.scene->CreateRigidPrismaticJointConstraint(p, error);
+      break;
+    }
+    case Kind::RotationRange: {
+      JointRotationRangeConstraintParams p;
+      p.actorA = p.actorB = tree;
+      p.linkA = linkA;
+      p.linkB = linkB;
+      p.jointFrame = frame;
+      p.rangeAroundRest = false;
+      p.referenceRotation = QuatOfRotationVector(Real3(0.4, -0.3, 0.5));
+      p.lowerLimits = p.upperLimits = Real3::Constant(5);
+      p.stiffness = 1e3;
+      c = s.scene->CreateJointRotationRangeConstraint(p, error);
+      break;
+    }
+    default: {
+      JointRotationTrackingConstraintParams p;
+      p.actorA = p.actorB = tree;
+      p.linkA = linkA;
+      p.linkB = linkB;
+      p.jointFrame = frame;
+      p.stiffness = 1e3;
+      c = s.scene->CreateJointRotationTrackingConstraint(p, error);
+      if (c) REQUIRE(c->SetTargetRotation(QuatOfRotationVector(Real3(0.4, -0.3, 0.5)), error));
+      break;
+    }
+  }
+  INFO(error.ToString());
+  REQUIRE(c);
+  // the DoF list: link A's path, then link B's own joints (3: 0..10; 4: 0..5, 11)
+  DynamicArray<int> const pathA = linkA == 3 ? DynamicArray<int>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10}
+                                             : DynamicArray<int>{0, 1, 2, 3, 4, 5, 11};
+  DynamicArray<int> const pathB = linkB == 3 ? DynamicArray<int>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10}
+                                             : DynamicArray<int>{0, 1, 2, 3, 4, 5, 11};
+  DynamicArray<int> expected;
+  for (int d : pathA) expected.push_back(s.tree->GetDofOffset() + d);
+  for (int d : pathB)
+    if (std::find(pathA.begin(), pathA.end(), d) == pathA.end()) expected.push_back(s.tree->GetDofOffset() + d);
+  REQUIRE(ConstraintTestAccess::Dofs(*c) == expected);
+  Span<int const> const reportedB = c->GetDofIndicesForActor(1);
+  REQUIRE(static_cast<int>(reportedB.size()) == static_cast<int>(pathB.size()));
+  REQUIRE(c->GetNumDofs() == 12);
+  // relative measures: the root's translation (columns 0..2) moves both
+  // frames alike; measures in frame A (the prismatic joint's) and relative
+  // rotations also ignore the root's rotation (3..5: R_Aᵀ R_B and R_Aᵀ
+  // (t_B − t_A) unchanged), which turns the spherical joint's world
+  // separation; rotational types ignore the prismatic joint too (it moves
+  // only link 3's position)
+  DynamicArray<int> zeroColumns = {0, 1, 2};
+  if (kind != Kind::SphericalJoint) zeroColumns.insert(zeroColumns.end(), {3, 4, 5});
+  if (IsRotational(kind)) {
+    int const prismatic = static_cast<int>(std::find(expected.begin(), expected.end(), s.tree->GetDofOffset() + 7) -
+                                           expected.begin());
+    zeroColumns.push_back(prismatic);
+  }
+  CheckJacobian(*s.scene, *c, zeroColumns);
+  CheckCurvature(*c, true);
+}
+
 TEST_CASE("a constraint on a link sees the link frame: its g equals the same constraint's on a rigid body at that "
           "frame",
           "[constraints][articulated]") {
@@ -316,14 +414,15 @@ TEST_CASE("a link argument that names no rigid body is refused with an error nam
   pin.link = -1;
   pin.actor = s.soft->GetHandle();
   refused(pin, ErrorCode::InvalidHandle, "expected a Rigid actor or an Articulated actor's link");
-  // two links of one tree (a loop) are refused for a pair type
+  // one link twice is refused for a pair type (two links of one tree close
+  // a loop: "... kinematic loop" above)
   RigidSphericalJointConstraintParams joint;
   joint.actorA = joint.actorB = s.tree->GetHandle();
-  joint.linkA = 3;
-  joint.linkB = 4;
+  joint.linkA = joint.linkB = 3;
   REQUIRE(s.scene->CreateRigidSphericalJointConstraint(joint, error) == nullptr);
   REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
-  REQUIRE(Mentions(error, "closing a loop"));
+  REQUIRE(Mentions(error, "RigidSphericalJointConstraintParams.linkB must differ from linkA"));
+  joint.linkB = 4;
   // the field names of the other types
   DeformableNodeToRigidConstraintParams node;
   node.deformableActor = s.soft->GetHandle();

@@ -402,3 +402,97 @@ TEST_CASE("links coupled with other bodies through the tree's Schur complement s
   CHECK(treeStats.hessianNonzeros < denseStats.hessianNonzeros - 500);
 }
 
+
+TEST_CASE("a parallelogram four-bar closed by a RigidSphericalJoint between two links of one actor swings as its "
+          "one-DoF pendulum",
+          "[scene][articulated]") {
+  // a fixed ground link; crank (link 1) and rocker (link 3) of length L
+  // hinged about z at (0, 0, 0) and (d, 0, 0); the coupler (link 2, length
+  // d) hinged on the crank's tip, its far end joined to the rocker's tip by
+  // a RigidSphericalJoint (a kinematic loop in one actor). Released at θ₀
+  // from hanging, the coupler translates without turning and θ follows
+  // (2 m L²/3 + m_c L²) θ̈ = −(m + m_c) g L sin θ (uniform rods m, coupler m_c)
+  real const L = 0.5, d = 0.8, m = 1, mc = 0.6, g = 9.81, theta0 = 0.7;
+  ArticulatedBlockSolve const solve = GENERATE(ArticulatedBlockSolve::Tree, ArticulatedBlockSolve::Dense);
+  CAPTURE(static_cast<int>(solve));
+  ArticulatedActorParams p;
+  p.blockSolve = solve;
+  ArticulatedLinkParams ground;
+  ground.joint = JointType::Fixed;
+  p.links.push_back(ground);
+  auto bar = [&](int parent, Real3 const& at, real angle) {
+    ArticulatedLinkParams link;
+    link.parent = parent;
+    link.joint = JointType::Revolute;
+    link.axis = Real3::UnitZ();
+    link.parentToJointPosition = at;
+    link.mass = m;
+    link.centerOfMass = Real3(0, -L / 2, 0);
+    link.inertia = Real3(m * L * L / 12, 1e-4, m * L * L / 12);
+    link.initialPosition = {angle};
+    return link;
+  };
+  p.links.push_back(bar(0, Real3::Zero(), theta0));  // crank
+  ArticulatedLinkParams coupler = bar(1, Real3(0, -L, 0), -theta0);
+  coupler.mass = mc;
+  coupler.centerOfMass = Real3(d / 2, 0, 0);
+  coupler.inertia = Real3(1e-4, mc * d * d / 12, mc * d * d / 12);
+  p.links.push_back(coupler);
+  p.links.push_back(bar(0, Real3(d, 0, 0), theta0));  // rocker
+  SceneParams params;
+  params.integrator = IntegratorType::Bdf2;
+  params.gravity = Real3(0, -g, 0);
+  params.newton.velocityTolerance = 1e-9;
+  auto scene = MakeScene(params);
+  ArticulatedActor* actor = MakeArticulated(*scene, p);
+  RigidSphericalJointConstraintParams close;
+  close.actorA = close.actorB = actor->GetHandle();
+  close.linkA = 2;
+  close.localPosA = Real3(d, 0, 0);
+  close.linkB = 3;
+  close.localPosB = Real3(0, -L, 0);
+  close.stiffness = 1e7;
+  Error error;
+  Constraint* loop = scene->CreateRigidSphericalJointConstraint(close, error);
+  INFO(error.ToString());
+  REQUIRE(loop);
+  for (real value : loop->GetDeviation()) REQUIRE(std::abs(value) <= 1e-14);
+  // its DoFs: the crank's and the coupler's joints, then the rocker's
+  REQUIRE(loop->GetNumDofs() == 3);
+
+  // the reference: RK4 on the pendulum at 1e-5 s
+  real const omega2 = g * (m + mc) / (L * (2 * m / 3 + mc));
+  real theta = theta0, rate = 0;
+  real const h = 1e-5, dt = 1e-3, endTime = 1.0;
+  int const substeps = static_cast<int>(std::lround(dt / h));
+  real worstAngle = 0, worstTurn = 0, worstRocker = 0;
+  for (int step = 0; step < static_cast<int>(std::lround(endTime / dt)); ++step) {
+    for (int k = 0; k < substeps; ++k) {
+      auto f = [&](real x) { return -omega2 * std::sin(x); };
+      real const k1x = rate, k1v = f(theta);
+      real const k2x = rate + 0.5 * h * k1v, k2v = f(theta + 0.5 * h * k1x);
+      real const k3x = rate + 0.5 * h * k2v, k3v = f(theta + 0.5 * h * k2x);
+      real const k4x = rate + h * k3v, k4v = f(theta + h * k3x);
+      theta += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+      rate += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    }
+    StepOk(*scene, dt);
+    DynamicArray<real> const q = actor->GetJointPositions();
+    worstAngle = std::max(worstAngle, std::abs(q[0] - theta));
+    worstTurn = std::max(worstTurn, std::abs(q[0] + q[1]));    // the coupler's world angle
+    worstRocker = std::max(worstRocker, std::abs(q[2] - q[0]));  // the rocker turns with the crank
+  }
+  // the loop reaches two joints of the actor: the dense block
+  REQUIRE_FALSE(actor->IsSolvedOnTree());
+  std::printf("parallelogram four-bar closed in one actor, 1 s at dt = 1e-3 (BDF2): crank angle vs the pendulum "
+              "%.2e rad, coupler turn %.2e rad, rocker - crank %.2e rad\n",
+              worstAngle, worstTurn, worstRocker);
+  // BDF2's phase error at ω dt ≈ 5e-3 over ~0.7 periods (~ω³ dt² t ≈ 1e-4
+  // rad) and the joint's stretch under the ~20 N loads over k = 1e7 N/m
+  // (~1e-5 rad): measured 4.2e-5 rad against the pendulum, 5.9e-7 coupler
+  // turn, 5.3e-7 between rocker and crank
+  REQUIRE(std::abs(theta - theta0) > 0.5);
+  CHECK(worstAngle <= 2e-4);
+  CHECK(worstTurn <= 1e-5);
+  CHECK(worstRocker <= 1e-5);
+}
