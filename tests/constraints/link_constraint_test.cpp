@@ -97,45 +97,12 @@ bool IsRotational(Kind kind) {
          kind == Kind::RodRotationToRigid;
 }
 
-/// A constraint of `kind` with `body` (an articulated actor's link `link`,
-/// or a rigid actor with link −1) as its rigid body (as body B of a pair type
-/// where `linkIsB`, the other body s.rigid), generic pivots, frames and
-/// targets; range components all outside their bounds.
-Constraint* MakeOnBody(LinkScene& s, Kind kind, ActorHandle body, int link, bool linkIsB, Error& error) {
-  ActorHandle const tree = body, rigid = s.rigid->GetHandle();
-  ActorHandle const a = linkIsB ? rigid : tree, b = linkIsB ? tree : rigid;
-  int const linkA = linkIsB ? -1 : link, linkB = linkIsB ? link : -1;
+/// A pair type between body A (actor `a`, link `linkA`, −1 for a rigid
+/// actor) and body B, generic pivots, frames and targets; range components
+/// all outside their bounds.
+Constraint* MakePair(Scene& scene, Kind kind, ActorHandle a, int linkA, ActorHandle b, int linkB, Error& error) {
   Quat const frame = QuatOfRotationVector(Real3(0.3, -0.5, 0.8));
-  Scene& scene = *s.scene;
   switch (kind) {
-    case Kind::PivotPosition: {
-      RigidPivotPositionConstraintParams p;
-      p.actor = tree;
-      p.link = link;
-      p.localPos = kPivotA;
-      p.position = kTargetPosition;
-      p.stiffness = 1e3;
-      return scene.CreateRigidPivotPositionConstraint(p, error);
-    }
-    case Kind::PivotToRigidTarget: {
-      RigidPivotToRigidTargetConstraintParams p;
-      p.actor = tree;
-      p.link = link;
-      p.localPos = kPivotA;
-      p.position = kTargetPosition;
-      p.rotation = QuatOfRotationVector(Real3(1.1, 0.4, -0.7));
-      p.stiffness = 1e3;
-      return scene.CreateRigidPivotToRigidTargetConstraint(p, error);
-    }
-    case Kind::PivotRotation: {
-      RigidPivotRotationConstraintParams p;
-      p.actor = tree;
-      p.link = link;
-      p.localRotation = QuatOfRotationVector(Real3(-0.6, 0.2, 0.35));
-      p.rotation = QuatOfRotationVector(Real3(0.4, -0.3, 0.5));
-      p.stiffness = 1e3;
-      return scene.CreateRigidPivotRotationConstraint(p, error);
-    }
     case Kind::SphericalJoint: {
       RigidSphericalJointConstraintParams p;
       p.actorA = a;
@@ -185,6 +152,53 @@ Constraint* MakeOnBody(LinkScene& s, Kind kind, ActorHandle body, int link, bool
       if (c) REQUIRE(c->SetTargetRotation(QuatOfRotationVector(Real3(0.4, -0.3, 0.5)), error));
       return c;
     }
+    default: return nullptr;
+  }
+}
+
+/// A constraint of `kind` with `body` (an articulated actor's link `link`,
+/// or a rigid actor with link −1) as its rigid body (as body B of a pair type
+/// where `linkIsB`, the other body s.rigid), generic pivots, frames and
+/// targets; range components all outside their bounds.
+Constraint* MakeOnBody(LinkScene& s, Kind kind, ActorHandle body, int link, bool linkIsB, Error& error) {
+  ActorHandle const tree = body, rigid = s.rigid->GetHandle();
+  ActorHandle const a = linkIsB ? rigid : tree, b = linkIsB ? tree : rigid;
+  int const linkA = linkIsB ? -1 : link, linkB = linkIsB ? link : -1;
+  Quat const frame = QuatOfRotationVector(Real3(0.3, -0.5, 0.8));
+  Scene& scene = *s.scene;
+  switch (kind) {
+    case Kind::PivotPosition: {
+      RigidPivotPositionConstraintParams p;
+      p.actor = tree;
+      p.link = link;
+      p.localPos = kPivotA;
+      p.position = kTargetPosition;
+      p.stiffness = 1e3;
+      return scene.CreateRigidPivotPositionConstraint(p, error);
+    }
+    case Kind::PivotToRigidTarget: {
+      RigidPivotToRigidTargetConstraintParams p;
+      p.actor = tree;
+      p.link = link;
+      p.localPos = kPivotA;
+      p.position = kTargetPosition;
+      p.rotation = QuatOfRotationVector(Real3(1.1, 0.4, -0.7));
+      p.stiffness = 1e3;
+      return scene.CreateRigidPivotToRigidTargetConstraint(p, error);
+    }
+    case Kind::PivotRotation: {
+      RigidPivotRotationConstraintParams p;
+      p.actor = tree;
+      p.link = link;
+      p.localRotation = QuatOfRotationVector(Real3(-0.6, 0.2, 0.35));
+      p.rotation = QuatOfRotationVector(Real3(0.4, -0.3, 0.5));
+      p.stiffness = 1e3;
+      return scene.CreateRigidPivotRotationConstraint(p, error);
+    }
+    case Kind::SphericalJoint:
+    case Kind::PrismaticJoint:
+    case Kind::RotationRange:
+    case Kind::RotationTracking: return MakePair(scene, kind, a, linkA, b, linkB, error);
     case Kind::NodeToRigid: {
       DeformableNodeToRigidConstraintParams p;
       p.deformableActor = s.soft->GetHandle();
@@ -272,59 +286,8 @@ TEST_CASE("a pair type between two links of one tree (a kinematic loop): its DoF
   LinkScene s = MakeLinkScene();
   Error error;
   int const linkA = swapped ? 4 : 3, linkB = swapped ? 3 : 4;
-  Constraint* c = nullptr;
   ActorHandle const tree = s.tree->GetHandle();
-  Quat const frame = QuatOfRotationVector(Real3(0.3, -0.5, 0.8));
-  switch (kind) {
-    case Kind::SphericalJoint: {
-      RigidSphericalJointConstraintParams p;
-      p.actorA = p.actorB = tree;
-      p.linkA = linkA;
-      p.linkB = linkB;
-      p.localPosA = kPivotA;
-      p.localPosB = kPivotB;
-      p.stiffness = 1e3;
-      c = s.scene->CreateRigidSphericalJointConstraint(p, error);
-      break;
-    }
-    case Kind::PrismaticJoint: {
-      RigidPrismaticJointConstraintParams p;
-      p.actorA = p.actorB = tree;
-      p.linkA = linkA;
-      p.linkB = linkB;
-      p.jointFrame = frame;
-      p.offsetAroundRest = false;
-      p.referenceOffset = Real3(0.1, -0.2, 0.3);
-      p.lowerLimit = p.upperLimit = 5;
-      p.stiffness = 1e3;
-      c = s.scene->CreateRigidPrismaticJointConstraint(p, error);
-      break;
-    }
-    case Kind::RotationRange: {
-      JointRotationRangeConstraintParams p;
-      p.actorA = p.actorB = tree;
-      p.linkA = linkA;
-      p.linkB = linkB;
-      p.jointFrame = frame;
-      p.rangeAroundRest = false;
-      p.referenceRotation = QuatOfRotationVector(Real3(0.4, -0.3, 0.5));
-      p.lowerLimits = p.upperLimits = Real3::Constant(5);
-      p.stiffness = 1e3;
-      c = s.scene->CreateJointRotationRangeConstraint(p, error);
-      break;
-    }
-    default: {
-      JointRotationTrackingConstraintParams p;
-      p.actorA = p.actorB = tree;
-      p.linkA = linkA;
-      p.linkB = linkB;
-      p.jointFrame = frame;
-      p.stiffness = 1e3;
-      c = s.scene->CreateJointRotationTrackingConstraint(p, error);
-      if (c) REQUIRE(c->SetTargetRotation(QuatOfRotationVector(Real3(0.4, -0.3, 0.5)), error));
-      break;
-    }
-  }
+  Constraint* c = MakePair(*s.scene, kind, tree, linkA, tree, linkB, error);
   INFO(error.ToString());
   REQUIRE(c);
   // the DoF list: link A's path, then link B's own joints (3: 0..10; 4: 0..5, 11)
