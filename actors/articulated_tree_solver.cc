@@ -10,7 +10,6 @@
 namespace superdex::internal {
 
 namespace {
-using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using Local = Eigen::Matrix<real, Eigen::Dynamic, 1, 0, 6, 1>;
 using Vector6 = ArticulatedTreeSolver::Vector6;
 
@@ -49,7 +48,7 @@ void ArticulatedTreeSolver::Reserve(int numJoints) {
   right_.resize(n);
   bias_.resize(n);
   motionSum_.resize(n);
-  pivots_.resize(n);
+  pivotInverse_.resize(n);
 }
 
 bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDefinite, int* failedJoint,
@@ -87,52 +86,93 @@ bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDef
   real const floor = 1e-10 * scale;
   // leaves up: each joint's pivot, then its contribution to its parent
   for (int i = numJoints - 1; i >= 0; --i) {
-    int const m = system.numDofs[i], parent = system.parent[i];
+    int const parent = system.parent[i];
     Matrix6 passed = articulated_[i];  // Yᴬ_i − Z_i, what the parent adds
-    if (m > 0) {
-      // (a copy of fixed capacity: products with it need no heap temporaries)
-      Columns const s = system.motion.middleCols(system.dofStart[i], m);
-      right_[i].noalias() = articulated_[i] * s;
-      Block pivot = system.jointExtras[i].topLeftCorner(m, m);
-      pivot.noalias() += s.transpose() * right_[i];
-      pivot = 0.5 * (pivot + pivot.transpose()).eval();  // Sᵀ Yᴬ S is symmetric up to round-off
-      if (!pivot.allFinite()) return fail(i);
-      pivots_[i].compute(pivot);
-      bool const definite = pivots_[i].info() == Eigen::Success && pivots_[i].matrixLLT().diagonal().minCoeff() > 0;
-      if (!definite) {
-        if (!makePositiveDefinite) return fail(i);
-        // V max(|Λ|, floor) Vᵀ of the symmetric pivot
-        Eigen::SelfAdjointEigenSolver<Block> eigen(pivot);
-        Local values = eigen.eigenvalues();
-        int modified = 0;
-        for (int a = 0; a < m; ++a) modified += values[a] < floor;
-        // the bound on what a modified direction takes from the parent
-        Eigen::LLT<Matrix6> metric;
-        bool const bounded = parent >= 0 && system.metric.size() == static_cast<std::size_t>(numJoints);
-        if (bounded) metric.compute(metric_[i]);
-        for (int a = 0; a < m; ++a) {
-          if (!(values[a] < floor)) continue;
-          values[a] = std::max(std::abs(values[a]), floor);
-          if (bounded && metric.info() == Eigen::Success) {
-            Vector6 const u = right_[i] * eigen.eigenvectors().col(a);
-            values[a] = std::max(values[a], 2 * modified * u.dot(metric.solve(u)));
-          }
-        }
-        Block const original = pivot;
-        pivot.noalias() = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
-        if (!modifications.empty()) modifications[i].topLeftCorner(m, m) = pivot - original;
-        pivots_[i].compute(pivot);
-        ++modifiedPivots_;
-        if (pivots_[i].info() != Eigen::Success || !(pivots_[i].matrixLLT().diagonal().minCoeff() > 0))
-          return fail(i);
-      }
-      // H_ji = S_jᵀ Yᴬ_i S_i for every strict ancestor j, H_ij its transpose:
-      // Z_i = (Yᴬ_i S_i) Dᵢ⁻¹ (Yᴬ_i S_i)ᵀ, symmetric though Yᴬ_i is not
-      if (parent >= 0) passed.noalias() -= right_[i] * pivots_[i].solve(Block(right_[i].transpose()));
+    bool eliminated = true;
+    switch (system.numDofs[i]) {
+      case 0: break;
+      case 1: eliminated = Eliminate<1>(system, i, makePositiveDefinite, floor, modifications, passed); break;
+      case 3: eliminated = Eliminate<3>(system, i, makePositiveDefinite, floor, modifications, passed); break;
+      case 6: eliminated = Eliminate<6>(system, i, makePositiveDefinite, floor, modifications, passed); break;
+      default:
+        eliminated = Eliminate<Eigen::Dynamic>(system, i, makePositiveDefinite, floor, modifications, passed);
+        break;
     }
+    if (!eliminated) return fail(i);
     if (parent >= 0) articulated_[parent] += ShiftToParent(system.shift[i], passed);
   }
   return true;
+}
+
+template <int M>
+bool ArticulatedTreeSolver::Eliminate(System const& system, int i, bool makePositiveDefinite, real floor,
+                                      Span<Matrix6> modifications, Matrix6& passed) {
+  // fixed-size kernels for one, three and six DoFs (the dynamic sizes' small
+  // products went through Eigen's general matrix kernels: a third of a
+  // chain's step)
+  constexpr int kMax = M == Eigen::Dynamic ? 6 : M;
+  using Cols = Eigen::Matrix<real, 6, M, 0, 6, kMax>;
+  using Square = Eigen::Matrix<real, M, M, 0, kMax, kMax>;
+  int const m = system.numDofs[i], parent = system.parent[i];
+  Cols const s = system.motion.middleCols(system.dofStart[i], m);
+  Cols ys;
+  ys.noalias() = articulated_[i] * s;
+  right_[i] = ys;
+  Square pivot = system.jointExtras[i].topLeftCorner(m, m);
+  pivot.noalias() += s.transpose() * ys;
+  pivot = 0.5 * (pivot + pivot.transpose()).eval();  // Sᵀ Yᴬ S is symmetric up to round-off
+  if (!pivot.allFinite()) return false;
+  Eigen::LLT<Square> factor(pivot);
+  bool const definite = factor.info() == Eigen::Success && factor.matrixLLT().diagonal().minCoeff() > 0;
+  if (!definite) {
+    if (!makePositiveDefinite) return false;
+    Block modified = pivot;
+    ModifyPivot(system, i, floor, modified);
+    if (!modifications.empty()) modifications[i].topLeftCorner(m, m) = modified - Block(pivot);
+    pivot = modified;
+    factor.compute(pivot);
+    ++modifiedPivots_;
+    if (factor.info() != Eigen::Success || !(factor.matrixLLT().diagonal().minCoeff() > 0)) return false;
+  }
+  // Dᵢ⁻¹ kept: the solves are then products of fixed size (closed-form
+  // inverses up to 4 × 4; the Cholesky factor's solve, through Eigen's
+  // general triangular kernel, cost more than the rest of the pivot)
+  Square inverse;
+  if constexpr (M != Eigen::Dynamic && M <= 4)
+    inverse = pivot.inverse();
+  else
+    inverse = factor.solve(Square::Identity(m, m));
+  pivotInverse_[i].topLeftCorner(m, m) = inverse;
+  // H_ji = S_jᵀ Yᴬ_i S_i for every strict ancestor j, H_ij its transpose:
+  // Z_i = (Yᴬ_i S_i) Dᵢ⁻¹ (Yᴬ_i S_i)ᵀ, symmetric though Yᴬ_i is not
+  if (parent >= 0) {
+    Cols const gain = ys * inverse;
+    passed.noalias() -= gain * ys.transpose();
+  }
+  return true;
+}
+
+void ArticulatedTreeSolver::ModifyPivot(System const& system, int i, real floor, Block& pivot) {
+  // V max(|Λ|, floor) Vᵀ of the symmetric pivot, each modified eigenvalue
+  // also raised by the bound on what its direction takes from the parent
+  int const m = system.numDofs[i], parent = system.parent[i];
+  int const numJoints = static_cast<int>(system.parent.size());
+  Eigen::SelfAdjointEigenSolver<Block> eigen(pivot);
+  Local values = eigen.eigenvalues();
+  int modified = 0;
+  for (int a = 0; a < m; ++a) modified += values[a] < floor;
+  Eigen::LLT<Matrix6> metric;
+  bool const bounded = parent >= 0 && system.metric.size() == static_cast<std::size_t>(numJoints);
+  if (bounded) metric.compute(metric_[i]);
+  for (int a = 0; a < m; ++a) {
+    if (!(values[a] < floor)) continue;
+    values[a] = std::max(std::abs(values[a]), floor);
+    if (bounded && metric.info() == Eigen::Success) {
+      Vector6 const u = right_[i] * eigen.eigenvectors().col(a);
+      values[a] = std::max(values[a], 2 * modified * u.dot(metric.solve(u)));
+    }
+  }
+  pivot.noalias() = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
 }
 
 void ArticulatedTreeSolver::Solve(System const& system, Span<real const> b, Span<real> x) {
@@ -140,27 +180,57 @@ void ArticulatedTreeSolver::Solve(System const& system, Span<real const> b, Span
   for (int i = 0; i < numJoints; ++i) bias_[i].setZero();
   // leaves up: yᵢ = Dᵢ⁻¹ (bᵢ − S_iᵀ Σ q), kept in x; q_i = Yᴬ_i S_i yᵢ
   for (int i = numJoints - 1; i >= 0; --i) {
-    int const m = system.numDofs[i], first = system.dofStart[i], parent = system.parent[i];
-    if (m > 0) {
-      Columns const s = system.motion.middleCols(first, m);
-      Local const reduced = Eigen::Map<Local const>(b.data() + first, m) - s.transpose() * bias_[i];
-      Local const y = pivots_[i].solve(reduced);
-      Eigen::Map<Local>(x.data() + first, m) = y;
-      bias_[i] += right_[i] * y;
+    switch (system.numDofs[i]) {
+      case 0: break;
+      case 1: SolveUp<1>(system, i, b, x); break;
+      case 3: SolveUp<3>(system, i, b, x); break;
+      case 6: SolveUp<6>(system, i, b, x); break;
+      default: SolveUp<Eigen::Dynamic>(system, i, b, x); break;
     }
+    int const parent = system.parent[i];
     if (parent >= 0) bias_[parent] += ShiftForce(system.shift[i], bias_[i]);
   }
   // roots down: xᵢ = yᵢ − Dᵢ⁻¹ (Yᴬ_i S_i)ᵀ Σ_{j strict ancestor} S_j x_j,
   // the sum carried to each joint's point
   for (int i = 0; i < numJoints; ++i) {
-    int const m = system.numDofs[i], first = system.dofStart[i], parent = system.parent[i];
+    int const parent = system.parent[i];
     motionSum_[i] = parent >= 0 ? ShiftMotion(system.shift[i], motionSum_[parent]) : Vector6::Zero();
-    if (m == 0) continue;
-    Columns const s = system.motion.middleCols(first, m);
-    Eigen::Map<Local> xi(x.data() + first, m);
-    if (parent >= 0) xi -= pivots_[i].solve(Local(right_[i].transpose() * motionSum_[i]));
-    motionSum_[i] += s * xi;
+    switch (system.numDofs[i]) {
+      case 0: break;
+      case 1: SolveDown<1>(system, i, x); break;
+      case 3: SolveDown<3>(system, i, x); break;
+      case 6: SolveDown<6>(system, i, x); break;
+      default: SolveDown<Eigen::Dynamic>(system, i, x); break;
+    }
   }
+}
+
+template <int M>
+void ArticulatedTreeSolver::SolveUp(System const& system, int i, Span<real const> b, Span<real> x) {
+  constexpr int kMax = M == Eigen::Dynamic ? 6 : M;
+  using Cols = Eigen::Matrix<real, 6, M, 0, 6, kMax>;
+  using Vec = Eigen::Matrix<real, M, 1, 0, kMax, 1>;
+  int const m = system.numDofs[i], first = system.dofStart[i];
+  Cols const s = system.motion.middleCols(first, m);
+  Vec const reduced = Eigen::Map<Vec const>(b.data() + first, m) - s.transpose() * bias_[i];
+  Vec const y = pivotInverse_[i].topLeftCorner(m, m) * reduced;
+  Eigen::Map<Vec>(x.data() + first, m) = y;
+  bias_[i].noalias() += Cols(right_[i]) * y;
+}
+
+template <int M>
+void ArticulatedTreeSolver::SolveDown(System const& system, int i, Span<real> x) {
+  constexpr int kMax = M == Eigen::Dynamic ? 6 : M;
+  using Cols = Eigen::Matrix<real, 6, M, 0, 6, kMax>;
+  using Vec = Eigen::Matrix<real, M, 1, 0, kMax, 1>;
+  int const m = system.numDofs[i], first = system.dofStart[i];
+  Cols const s = system.motion.middleCols(first, m);
+  Eigen::Map<Vec> xi(x.data() + first, m);
+  if (system.parent[i] >= 0) {
+    Vec const correction = Cols(right_[i]).transpose() * motionSum_[i];
+    xi -= pivotInverse_[i].topLeftCorner(m, m) * correction;
+  }
+  motionSum_[i].noalias() += s * xi;
 }
 
 }  // namespace superdex::internal

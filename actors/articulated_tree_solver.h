@@ -93,14 +93,26 @@ class ArticulatedTreeSolver {
   int GetNumModifiedPivots() const { return modifiedPivots_; }
 
  private:
-  using Pivot = Eigen::LLT<Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>>;
+  using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
   using Columns = Eigen::Matrix<real, 6, Eigen::Dynamic, 0, 6, 6>;
+  /// Joint i's pivot, Dᵢ⁻¹ into pivotInverse_ and Z_i out of `passed`, with
+  /// kernels of M DoFs (1, 3, 6; Eigen::Dynamic for the others). False
+  /// where the pivot is not positive definite (and not modified).
+  template <int M>
+  bool Eliminate(System const& system, int i, bool makePositiveDefinite, real floor, Span<Matrix6> modifications,
+                 Matrix6& passed);
+  /// The modified pivot of joint i (Factorize's `makePositiveDefinite`).
+  void ModifyPivot(System const& system, int i, real floor, Block& pivot);
+  template <int M>
+  void SolveUp(System const& system, int i, Span<real const> b, Span<real> x);
+  template <int M>
+  void SolveDown(System const& system, int i, Span<real> x);
   DynamicArray<Matrix6> articulated_;  ///< Yᴬ_i
   DynamicArray<Matrix6> metric_;       ///< the composite of System::metric over i's subtree
   DynamicArray<Columns> right_;        ///< Yᴬ_i S_i
   DynamicArray<Vector6> bias_;         ///< Σ over i's strict descendants of q_k = Yᴬ_k S_k Dₖ⁻¹ b̃_k
   DynamicArray<Vector6> motionSum_;    ///< back substitution: Σ over i and its ancestors of S_j x_j
-  DynamicArray<Pivot> pivots_;
+  DynamicArray<Matrix6> pivotInverse_;  ///< Dᵢ⁻¹ in the top-left corner
   int modifiedPivots_ = 0;
 };
 
