@@ -48,7 +48,7 @@ void ArticulatedTreeSolver::Reserve(int numJoints) {
   right_.resize(n);
   bias_.resize(n);
   motionSum_.resize(n);
-  pivotInverse_.resize(n);
+  pivotFactor_.resize(n);
 }
 
 bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDefinite, int* failedJoint,
@@ -134,20 +134,14 @@ bool ArticulatedTreeSolver::Eliminate(System const& system, int i, bool makePosi
     ++modifiedPivots_;
     if (factor.info() != Eigen::Success || !(factor.matrixLLT().diagonal().minCoeff() > 0)) return false;
   }
-  // Dᵢ⁻¹ kept: the solves are then products of fixed size (closed-form
-  // inverses up to 4 × 4; the Cholesky factor's solve, through Eigen's
-  // general triangular kernel, cost more than the rest of the pivot)
-  Square inverse;
-  if constexpr (M != Eigen::Dynamic && M <= 4)
-    inverse = pivot.inverse();
-  else
-    inverse = factor.solve(Square::Identity(m, m));
-  pivotInverse_[i].topLeftCorner(m, m) = inverse;
+  // the Cholesky factor Lᵢ kept (the solves: triangular, of fixed size)
+  pivotFactor_[i].topLeftCorner(m, m) = factor.matrixL();
   // H_ji = S_jᵀ Yᴬ_i S_i for every strict ancestor j, H_ij its transpose:
-  // Z_i = (Yᴬ_i S_i) Dᵢ⁻¹ (Yᴬ_i S_i)ᵀ, symmetric though Yᴬ_i is not
+  // Z_i = (Yᴬ_i S_i) Dᵢ⁻¹ (Yᴬ_i S_i)ᵀ = Wᵀ W, W = Lᵢ⁻¹ (Yᴬ_i S_i)ᵀ
   if (parent >= 0) {
-    Cols const gain = ys * inverse;
-    passed.noalias() -= gain * ys.transpose();
+    Eigen::Matrix<real, M, 6, M == 1 ? Eigen::RowMajor : Eigen::ColMajor, kMax, 6> w = ys.transpose();
+    factor.matrixL().solveInPlace(w);
+    passed.noalias() -= w.transpose() * w;
   }
   return true;
 }
@@ -205,6 +199,15 @@ void ArticulatedTreeSolver::Solve(System const& system, Span<real const> b, Span
   }
 }
 
+template <int M, class Vec>
+void ArticulatedTreeSolver::PivotSolve(int i, int m, Vec& v) const {
+  constexpr int kMax = M == Eigen::Dynamic ? 6 : M;
+  using Square = Eigen::Matrix<real, M, M, 0, kMax, kMax>;
+  Square const factor = pivotFactor_[i].topLeftCorner(m, m);
+  factor.template triangularView<Eigen::Lower>().solveInPlace(v);
+  factor.transpose().template triangularView<Eigen::Upper>().solveInPlace(v);
+}
+
 template <int M>
 void ArticulatedTreeSolver::SolveUp(System const& system, int i, Span<real const> b, Span<real> x) {
   constexpr int kMax = M == Eigen::Dynamic ? 6 : M;
@@ -213,7 +216,8 @@ void ArticulatedTreeSolver::SolveUp(System const& system, int i, Span<real const
   int const m = system.numDofs[i], first = system.dofStart[i];
   Cols const s = system.motion.middleCols(first, m);
   Vec const reduced = Eigen::Map<Vec const>(b.data() + first, m) - s.transpose() * bias_[i];
-  Vec const y = pivotInverse_[i].topLeftCorner(m, m) * reduced;
+  Vec y = reduced;
+  PivotSolve<M>(i, m, y);
   Eigen::Map<Vec>(x.data() + first, m) = y;
   bias_[i].noalias() += Cols(right_[i]) * y;
 }
@@ -227,8 +231,9 @@ void ArticulatedTreeSolver::SolveDown(System const& system, int i, Span<real> x)
   Cols const s = system.motion.middleCols(first, m);
   Eigen::Map<Vec> xi(x.data() + first, m);
   if (system.parent[i] >= 0) {
-    Vec const correction = Cols(right_[i]).transpose() * motionSum_[i];
-    xi -= pivotInverse_[i].topLeftCorner(m, m) * correction;
+    Vec correction = Cols(right_[i]).transpose() * motionSum_[i];
+    PivotSolve<M>(i, m, correction);
+    xi -= correction;
   }
   motionSum_[i].noalias() += s * xi;
 }

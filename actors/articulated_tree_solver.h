@@ -95,7 +95,7 @@ class ArticulatedTreeSolver {
  private:
   using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
   using Columns = Eigen::Matrix<real, 6, Eigen::Dynamic, 0, 6, 6>;
-  /// Joint i's pivot, Dᵢ⁻¹ into pivotInverse_ and Z_i out of `passed`, with
+  /// Joint i's pivot, its factor into pivotFactor_ and Z_i out of `passed`, with
   /// kernels of M DoFs (1, 3, 6; Eigen::Dynamic for the others). False
   /// where the pivot is not positive definite (and not modified).
   template <int M>
@@ -103,6 +103,9 @@ class ArticulatedTreeSolver {
                  Matrix6& passed);
   /// The modified pivot of joint i (Factorize's `makePositiveDefinite`).
   void ModifyPivot(System const& system, int i, real floor, Block& pivot);
+  /// v ← Dᵢ⁻¹ v (m entries) with the kept factor.
+  template <int M, class Vec>
+  void PivotSolve(int i, int m, Vec& v) const;
   template <int M>
   void SolveUp(System const& system, int i, Span<real const> b, Span<real> x);
   template <int M>
@@ -112,7 +115,7 @@ class ArticulatedTreeSolver {
   DynamicArray<Columns> right_;        ///< Yᴬ_i S_i
   DynamicArray<Vector6> bias_;         ///< Σ over i's strict descendants of q_k = Yᴬ_k S_k Dₖ⁻¹ b̃_k
   DynamicArray<Vector6> motionSum_;    ///< back substitution: Σ over i and its ancestors of S_j x_j
-  DynamicArray<Matrix6> pivotInverse_;  ///< Dᵢ⁻¹ in the top-left corner
+  DynamicArray<Matrix6> pivotFactor_;  ///< Dᵢ's Cholesky factor Lᵢ in the top-left corner
   int modifiedPivots_ = 0;
 };
 
