@@ -329,26 +329,23 @@ TEST_CASE("links coupled with other bodies through the tree's Schur complement s
     weld.linkB = n - 1;
     weld.stiffness = 50;
     REQUIRE(scene->CreateJointRotationTrackingConstraint(weld, error));
+    // a node of a tet block or a rod held on the tip link
+    auto hold = [&](ActorHandle body, int node) {
+      DeformableNodeToRigidConstraintParams params;
+      params.deformableActor = body;
+      params.deformableNodeIndex = node;
+      params.rigidActor = actor->GetHandle();
+      params.rigidLink = n - 1;
+      params.stiffness = 1e4;
+      REQUIRE(scene->CreateDeformableNodeToRigidConstraint(params, error));
+    };
     DeformableActor* block = MakeBox(*scene, Real3(0.1 * n, 0.05, -0.05), Real3(0.1, 0.1, 0.1), {1, 1, 1},
                                      DeformableActorParams{});
-    for (int node : {0, 4}) {
-      DeformableNodeToRigidConstraintParams hold;
-      hold.deformableActor = block->GetHandle();
-      hold.deformableNodeIndex = node;
-      hold.rigidActor = actor->GetHandle();
-      hold.rigidLink = n - 1;
-      hold.stiffness = 1e4;
-      REQUIRE(scene->CreateDeformableNodeToRigidConstraint(hold, error));
-    }
+    for (int node : {0, 4}) hold(block->GetHandle(), node);
     RodActorParams rodParams;
     rodParams.radius = 0.005;
     RodActor* rod = MakeStraightRod(*scene, Real3(0.1 * n, -0.05, 0), Real3(0, -1, 0), 0.15, 3, rodParams);
-    DeformableNodeToRigidConstraintParams clamp;
-    clamp.deformableActor = rod->GetHandle();
-    clamp.rigidActor = actor->GetHandle();
-    clamp.rigidLink = n - 1;
-    clamp.stiffness = 1e4;
-    REQUIRE(scene->CreateDeformableNodeToRigidConstraint(clamp, error));
+    hold(rod->GetHandle(), 0);
     RodElementRotationToRigidConstraintParams twist;
     twist.rigidActor = actor->GetHandle();
     twist.rigidLink = n - 1;
