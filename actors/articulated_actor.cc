@@ -322,6 +322,16 @@ void ArticulatedActor::ComputeKinematics(DynamicArray<JointState> const& joints,
   }
 }
 
+void ArticulatedActor::UpdateKinematics() const {
+  auto const same = [](JointState const& a, JointState const& b) {
+    return a.scalar == b.scalar && a.translation == b.translation && a.rotation.coeffs() == b.rotation.coeffs();
+  };
+  if (std::equal(state_.joints.begin(), state_.joints.end(), kinematicsJoints_.begin(), kinematicsJoints_.end(), same))
+    return;
+  ComputeKinematics(state_.joints, kinematics_);
+  kinematicsJoints_ = state_.joints;
+}
+
 internal::LinkPath ArticulatedActor::GetLinkPath(int link) const {
   internal::LinkPath path;
   path.link = link;
@@ -437,7 +447,7 @@ Real3 ArticulatedActor::GetAngularMomentum() const {
 }
 
 void ArticulatedActor::ComputeCompositeInertias() const {
-  ComputeKinematics(state_.joints, kinematics_);
+  UpdateKinematics();
   int const numLinks = GetNumLinks();
   for (int i = 0; i < numLinks; ++i) {
     Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
@@ -478,7 +488,7 @@ VectorX ArticulatedActor::ComputeBiasForces(Real3 const& gravity) const {
   // axes, the link's for spherical and free-rotation axes), A_root = −g
   // (gravity as a base acceleration); F_i = I_i A_i + V_i ×_f I_i V_i;
   // τ_k = S_kᵀ Σ_subtree F.
-  ComputeKinematics(state_.joints, kinematics_);
+  UpdateKinematics();
   int const numLinks = GetNumLinks();
   auto crossMotion = [](Vector6 const& v, Vector6 const& m) {
     Vector6 r;
@@ -533,7 +543,7 @@ void ArticulatedActor::WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const {
   // joint frame) and a rotation ω about the world origin (local increment
   // R_postᵀ ω, the joint origin o moving by ω × o)
   if (!IsFloatingBase()) return;
-  ComputeKinematics(state_.joints, kinematics_);
+  UpdateKinematics();
   Real33 const pre = kinematics_.preRotation[0].toRotationMatrix();
   Real33 const post = kinematics_.postRotation[0].toRotationMatrix();
   auto block = modes.middleRows(dofOffset_, numDofs_);
@@ -601,7 +611,7 @@ void ArticulatedActor::BeginStage(internal::StageCoefficients const& requested, 
 
 real ArticulatedActor::Energy(internal::OwnedContributors owned) const {
   if (!owned(0)) return 0;  // its one dense contributor
-  ComputeKinematics(state_.joints, kinematics_);
+  UpdateKinematics();
   real energy = 0;
   for (int i = 0; i < GetNumLinks(); ++i)
     energy += inertia_[i].Energy(kinematics_.com[i], kinematics_.linkRotation[i]) -
@@ -623,7 +633,7 @@ real ArticulatedActor::Energy(internal::OwnedContributors owned) const {
 
 void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
   using internal::ArticulatedTreeSolver;
-  ComputeKinematics(state_.joints, kinematics_);
+  UpdateKinematics();
   Kinematics const& k = kinematics_;
   int const numLinks = GetNumLinks();
   // every spatial quantity of link i about its joint origin o_i (a local
@@ -644,17 +654,20 @@ void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
   // subtree root's joint origin o (shifted on the way up)
   for (int i = 0; i < numLinks; ++i) {
     Real3 f, tau;
-    inertia_[i].Gradient(k.com[i], k.linkRotation[i], f, tau);
+    Real33 rotation;
+    inertia_[i].Derivatives(k.com[i], k.linkRotation[i], f, tau, &rotation);
     f -= links_[i].mass * gravity_;
     Real3 const arm = k.com[i] - k.jointOrigin[i];
     wrenchForce_[i] = f;
     wrenchMoment_[i] = tau + arm.cross(f);
     torqueSum_[i] = tau;
     forceMoment_[i] = arm * f.transpose();
-    Real33 const rotation = inertia_[i].RotationHessian(k.linkRotation[i]);
     own_[i] = SpatialStiffness(rotation, inertia_[i].TranslationStiffness(), arm) + Curvature(forceMoment_[i], f, tau);
-    composite_[i] = own_[i];
   }
+  // the composites Y only for the dense block (the tree solver forms its own)
+  bool const dense = !SolvesOwnBlock();
+  if (dense)
+    for (int i = 0; i < numLinks; ++i) composite_[i] = own_[i];
   for (int i = numLinks - 1; i > 0; --i) {
     int const p = links_[i].parent;
     Real3 const& r = shift_[i];
@@ -662,7 +675,7 @@ void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
     wrenchMoment_[p] += wrenchMoment_[i] + r.cross(wrenchForce_[i]);
     torqueSum_[p] += torqueSum_[i];
     forceMoment_[p] += forceMoment_[i] + r * wrenchForce_[i].transpose();
-    composite_[p] += ArticulatedTreeSolver::ShiftToParent(r, composite_[i]);
+    if (dense) composite_[p] += ArticulatedTreeSolver::ShiftToParent(r, composite_[i]);
   }
   // gradient: g_k = ω_k·M_sub + v_k·F_sub (the backward pass of RNEA)
   gradient_.setZero();
@@ -694,32 +707,24 @@ void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
   // H_ab += ω_a·(P ω_b − ω_b tr P + v_b × F) + ½ ω_a·(ω_b × T) between
   // joints (the Curvature operator); within one spherical or free joint the
   // rotations are exponential coordinates: the symmetric ½(ÂB̂ + B̂Â) and no
-  // torque term; a free joint's translations act before its rotations
+  // torque term; a free joint's translations act before its rotations.
+  // With q_b = P ω_b − ω_b tr P + v_b × F, the curvature within the joint
+  // is ½(ω_a·q_b + ω_b·q_a) for a rotation a (ω_b·q_b on the diagonal) and
+  // nothing for a translation a before it, while sym(S_cᵀ C S_c)_ab =
+  // ½(ω_a·(q_b − ½ τ × ω_b) + ω_b·(q_a − ½ τ × ω_a)), whose torque terms
+  // cancel: E_c is zero but for a free joint's translation a and rotation b,
+  // −½ ω_b·(v_a × F)
   for (int c = 0; c < numLinks; ++c) {
     Link const& lk = links_[c];
-    int const m = lk.numDofs;
-    if (m == 0) continue;
-    SpatialColumns const s = localMotion_.middleCols(lk.dofStart, m);  // fixed capacity: no allocation
-    SpatialColumns const curved = Curvature(forceMoment_[c], wrenchForce_[c], torqueSum_[c]) * s;
-    Matrix6& block = jointBlocks_[c];
-    block.topLeftCorner(m, m).noalias() = -0.5 * s.transpose() * curved;
-    block.topLeftCorner(m, m).noalias() -= 0.5 * curved.transpose() * s;
-    Real33 const& p = forceMoment_[c];
-    real const trace = p.trace();
-    for (int b = 0; b < m; ++b) {
-      Real3 const wb = s.col(b).head<3>(), vb = s.col(b).tail<3>();
-      Real3 const q = p * wb - trace * wb + vb.cross(wrenchForce_[c]);
-      for (int a = 0; a <= b; ++a) {
-        Real3 const wa = s.col(a).head<3>(), va = s.col(a).tail<3>();
-        real value = 0;
-        if (a == b) {
-          value = wb.dot(q);
-        } else if (!wa.isZero()) {  // a free joint's translation before its rotation: no coupling
-          Real3 const qa = p * wa - trace * wa + va.cross(wrenchForce_[c]);
-          value = 0.5 * (wa.dot(q) + wb.dot(qa));
-        }
-        block(a, b) += value;
-        if (a != b) block(b, a) += value;
+    jointBlocks_[c].topLeftCorner(lk.numDofs, lk.numDofs).setZero();
+    if (lk.joint != JointType::Free) continue;
+    for (int a = 0; a < 3; ++a) {
+      Real3 const va = localMotion_.col(lk.dofStart + a).tail<3>();
+      Real3 const moment = va.cross(wrenchForce_[c]);
+      for (int b = 3; b < 6; ++b) {
+        real const value = -0.5 * localMotion_.col(lk.dofStart + b).head<3>().dot(moment);
+        jointBlocks_[c](a, b) = value;
+        jointBlocks_[c](b, a) = value;
       }
     }
   }
@@ -997,7 +1002,10 @@ bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, 
     }
     ++modifiedTreeFactorizations_;
     if (couplingDofs_.empty() || !separateCouplings) {
-      factorized = treeSolver_.Factorize(TreeSystem(), true, &failedLink);
+      // from the joint where the exact attempt failed (the joints before it
+      // stay as they were eliminated)
+      factorized = projectHessian ? treeSolver_.Factorize(TreeSystem(), true, &failedLink)
+                                  : treeSolver_.ContinueModified(TreeSystem(), &failedLink);
     } else {
       // Coupled with other bodies, the modification kept apart from the
       // couplings (the stage solver's last resort, after the modified sum
@@ -1166,7 +1174,7 @@ bool ArticulatedActor::IsStateFinite() const {
 }
 
 void ArticulatedActor::EndStage() {
-  ComputeKinematics(state_.joints, kinematics_);
+  UpdateKinematics();
   for (int i = 0; i < GetNumLinks(); ++i)
     inertia_[i].End(kinematics_.com[i], kinematics_.linkRotation[i], state_.links[i]);
   // joint velocities: (Δq − c Δₚ)/(β h) in increment coordinates

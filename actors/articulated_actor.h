@@ -249,6 +249,10 @@ class ArticulatedActor final : public Actor {
   void RestoreSnapshot(internal::ActorSnapshot const& snapshot) override;
 
   void ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k) const;
+  /// kinematics_ for state_.joints, computed only where the joints changed
+  /// since the last call (the line search's accepted energy and the next
+  /// assembly share one pass)
+  void UpdateKinematics() const;
   /// One link's pose from its parent's (the world's for the root) and its
   /// joint's state; its DoFs' world motion (ω; v_O) into `motion` (one
   /// column per DoF of the joint).
@@ -278,6 +282,7 @@ class ArticulatedActor final : public Actor {
   DynamicArray<JointState> stageStart_, saved_;
   VectorX jointTarget_;  ///< Δ̂q, the reduced prediction (armature)
   mutable Kinematics kinematics_;
+  mutable DynamicArray<JointState> kinematicsJoints_;  ///< the joints kinematics_ was computed for
   /// the dense block (sized by SizeDenseBlock: at creation for Dense, at
   /// the first dense assembly for Tree)
   mutable MatrixX hessian_;

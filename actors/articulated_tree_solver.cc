@@ -10,7 +10,6 @@
 namespace superdex::internal {
 
 namespace {
-using Local = Eigen::Matrix<real, Eigen::Dynamic, 1, 0, 6, 1>;
 using Vector6 = ArticulatedTreeSolver::Vector6;
 
 /// X m: a motion (ω; v) about a point, about the point r after it
@@ -49,6 +48,7 @@ void ArticulatedTreeSolver::Reserve(int numJoints) {
   bias_.resize(n);
   motionSum_.resize(n);
   pivotFactor_.resize(n);
+  composite_.resize(n);
 }
 
 bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDefinite, int* failedJoint,
@@ -56,79 +56,99 @@ bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDef
   int const numJoints = static_cast<int>(system.parent.size());
   if (static_cast<int>(articulated_.size()) != numJoints) Reserve(numJoints);
   modifiedPivots_ = 0;
+  resumeJoint_ = -1;
   for (Matrix6& modification : modifications) modification.setZero();
-  auto const fail = [&](int joint) {
-    if (failedJoint != nullptr) *failedJoint = joint;
-    return false;
-  };
-  // the modification's floor: 1e-10 of H's largest diagonal entry, from the
-  // composites Y_i (a pass only where pivots may be modified); as the dense
-  // modified Cholesky's floor, it keeps a pivot's eigenvalue near zero from
-  // turning into a step of any length
-  real scale = 0;
   for (int i = 0; i < numJoints; ++i) articulated_[i] = system.own[i];
-  if (makePositiveDefinite) {
-    bool const bounded = system.metric.size() == static_cast<std::size_t>(numJoints);
-    for (int i = 0; i < numJoints && bounded; ++i) metric_[i] = system.metric[i];
-    for (int i = numJoints - 1; i >= 0; --i) {
-      int const m = system.numDofs[i], parent = system.parent[i];
-      if (bounded && parent >= 0) metric_[parent] += ShiftToParent(system.shift[i], metric_[i]);
-      if (m > 0) {
-        Columns const s = system.motion.middleCols(system.dofStart[i], m);
-        Columns const ys = articulated_[i] * s;
-        for (int a = 0; a < m; ++a)
-          scale = std::max(scale, std::abs(s.col(a).dot(ys.col(a)) + system.jointExtras[i](a, a)));
-      }
-      if (parent >= 0) articulated_[parent] += ShiftToParent(system.shift[i], articulated_[i]);
-    }
-    for (int i = 0; i < numJoints; ++i) articulated_[i] = system.own[i];
+  if (makePositiveDefinite) PrepareModification(system);
+  return EliminateFrom(system, numJoints - 1, makePositiveDefinite, modifications, failedJoint);
+}
+
+bool ArticulatedTreeSolver::ContinueModified(System const& system, int* failedJoint) {
+  if (resumeJoint_ < 0 || static_cast<int>(articulated_.size()) != static_cast<int>(system.parent.size()))
+    return Factorize(system, true, failedJoint);
+  int const first = resumeJoint_;
+  resumeJoint_ = -1;
+  PrepareModification(system);
+  return EliminateFrom(system, first, true, {}, failedJoint);
+}
+
+void ArticulatedTreeSolver::PrepareModification(System const& system) {
+  // the floor: 1e-10 of H's largest diagonal entry, from the composites Y_i;
+  // as the dense modified Cholesky's floor, it keeps a pivot's eigenvalue
+  // near zero from turning into a step of any length. And the metric's
+  // composites over the subtrees (the bound on what a modified direction
+  // takes from the parent)
+  int const numJoints = static_cast<int>(system.parent.size());
+  bool const bounded = system.metric.size() == static_cast<std::size_t>(numJoints);
+  real scale = 0;
+  for (int i = 0; i < numJoints; ++i) {
+    composite_[i] = system.own[i];
+    if (bounded) metric_[i] = system.metric[i];
   }
-  real const floor = 1e-10 * scale;
-  // leaves up: each joint's pivot, then its contribution to its parent
   for (int i = numJoints - 1; i >= 0; --i) {
+    int const m = system.numDofs[i], parent = system.parent[i];
+    if (bounded && parent >= 0) metric_[parent] += ShiftToParent(system.shift[i], metric_[i]);
+    if (m > 0) {
+      Columns const s = system.motion.middleCols(system.dofStart[i], m);
+      Columns const ys = composite_[i] * s;
+      for (int a = 0; a < m; ++a)
+        scale = std::max(scale, std::abs(s.col(a).dot(ys.col(a)) + system.jointExtras[i](a, a)));
+    }
+    if (parent >= 0) composite_[parent] += ShiftToParent(system.shift[i], composite_[i]);
+  }
+  floor_ = 1e-10 * scale;
+}
+
+bool ArticulatedTreeSolver::EliminateFrom(System const& system, int first, bool makePositiveDefinite,
+                                          Span<Matrix6> modifications, int* failedJoint) {
+  // leaves up: each joint's pivot, then its contribution to its parent
+  for (int i = first; i >= 0; --i) {
     int const parent = system.parent[i];
     Matrix6 passed = articulated_[i];  // Yᴬ_i − Z_i, what the parent adds
     bool eliminated = true;
     switch (system.numDofs[i]) {
       case 0: break;
-      case 1: eliminated = Eliminate<1>(system, i, makePositiveDefinite, floor, modifications, passed); break;
-      case 3: eliminated = Eliminate<3>(system, i, makePositiveDefinite, floor, modifications, passed); break;
-      case 6: eliminated = Eliminate<6>(system, i, makePositiveDefinite, floor, modifications, passed); break;
+      case 1: eliminated = Eliminate<1>(system, i, makePositiveDefinite, modifications, passed); break;
+      case 3: eliminated = Eliminate<3>(system, i, makePositiveDefinite, modifications, passed); break;
+      case 6: eliminated = Eliminate<6>(system, i, makePositiveDefinite, modifications, passed); break;
       default:
-        eliminated = Eliminate<Eigen::Dynamic>(system, i, makePositiveDefinite, floor, modifications, passed);
+        eliminated = Eliminate<Eigen::Dynamic>(system, i, makePositiveDefinite, modifications, passed);
         break;
     }
-    if (!eliminated) return fail(i);
+    if (!eliminated) {
+      // articulated_[i] and what the joints after it passed up are intact:
+      // ContinueModified can go on from here
+      if (!makePositiveDefinite) resumeJoint_ = i;
+      if (failedJoint != nullptr) *failedJoint = i;
+      return false;
+    }
     if (parent >= 0) articulated_[parent] += ShiftToParent(system.shift[i], passed);
   }
   return true;
 }
 
 template <int M>
-bool ArticulatedTreeSolver::Eliminate(System const& system, int i, bool makePositiveDefinite, real floor,
+bool ArticulatedTreeSolver::Eliminate(System const& system, int i, bool makePositiveDefinite,
                                       Span<Matrix6> modifications, Matrix6& passed) {
   // fixed-size kernels for one, three and six DoFs (the dynamic sizes' small
   // products went through Eigen's general matrix kernels: a third of a
   // chain's step)
-  constexpr int kMax = M == Eigen::Dynamic ? 6 : M;
-  using Cols = Eigen::Matrix<real, 6, M, 0, 6, kMax>;
-  using Square = Eigen::Matrix<real, M, M, 0, kMax, kMax>;
   int const m = system.numDofs[i], parent = system.parent[i];
-  Cols const s = system.motion.middleCols(system.dofStart[i], m);
-  Cols ys;
+  Cols<M> const s = system.motion.middleCols(system.dofStart[i], m);
+  Cols<M> ys;
   ys.noalias() = articulated_[i] * s;
   right_[i] = ys;
-  Square pivot = system.jointExtras[i].topLeftCorner(m, m);
+  Square<M> pivot = system.jointExtras[i].topLeftCorner(m, m);
   pivot.noalias() += s.transpose() * ys;
   pivot = 0.5 * (pivot + pivot.transpose()).eval();  // Sᵀ Yᴬ S is symmetric up to round-off
   if (!pivot.allFinite()) return false;
-  Eigen::LLT<Square> factor(pivot);
+  Eigen::LLT<Square<M>> factor(pivot);
   bool const definite = factor.info() == Eigen::Success && factor.matrixLLT().diagonal().minCoeff() > 0;
   if (!definite) {
     if (!makePositiveDefinite) return false;
-    Block modified = pivot;
-    ModifyPivot(system, i, floor, modified);
-    if (!modifications.empty()) modifications[i].topLeftCorner(m, m) = modified - Block(pivot);
+    Square<M> modified = pivot;
+    ModifyPivot<M>(system, i, modified);
+    if (!modifications.empty()) modifications[i].topLeftCorner(m, m) = modified - pivot;
     pivot = modified;
     factor.compute(pivot);
     ++modifiedPivots_;
@@ -139,31 +159,46 @@ bool ArticulatedTreeSolver::Eliminate(System const& system, int i, bool makePosi
   // H_ji = S_jᵀ Yᴬ_i S_i for every strict ancestor j, H_ij its transpose:
   // Z_i = (Yᴬ_i S_i) Dᵢ⁻¹ (Yᴬ_i S_i)ᵀ = Wᵀ W, W = Lᵢ⁻¹ (Yᴬ_i S_i)ᵀ
   if (parent >= 0) {
-    Eigen::Matrix<real, M, 6, M == 1 ? Eigen::RowMajor : Eigen::ColMajor, kMax, 6> w = ys.transpose();
-    factor.matrixL().solveInPlace(w);
+    // W by forward substitution, row by row (Eigen's triangular solve with a
+    // matrix right-hand side goes through its general blocked kernel)
+    auto const& lower = factor.matrixLLT();
+    Eigen::Matrix<real, M, 6, M == 1 ? Eigen::RowMajor : Eigen::ColMajor, Capacity(M), 6> w = ys.transpose();
+    for (int r = 0; r < m; ++r) {
+      for (int c = 0; c < r; ++c) w.row(r) -= lower(r, c) * w.row(c);
+      w.row(r) /= lower(r, r);
+    }
     passed.noalias() -= w.transpose() * w;
   }
   return true;
 }
 
-void ArticulatedTreeSolver::ModifyPivot(System const& system, int i, real floor, Block& pivot) {
+template <int M>
+void ArticulatedTreeSolver::ModifyPivot(System const& system, int i, Square<M>& pivot) {
   // V max(|Λ|, floor) Vᵀ of the symmetric pivot, each modified eigenvalue
   // also raised by the bound on what its direction takes from the parent
+  // (fixed-size kernels: with a dynamic 6 × 6 solver the modification took
+  // a tenth of a falling chain's step, every pivot modified)
   int const m = system.numDofs[i], parent = system.parent[i];
   int const numJoints = static_cast<int>(system.parent.size());
-  Eigen::SelfAdjointEigenSolver<Block> eigen(pivot);
-  Local values = eigen.eigenvalues();
+  Eigen::SelfAdjointEigenSolver<Square<M>> eigen(pivot);
+  Vec<M> values = eigen.eigenvalues();
   int modified = 0;
-  for (int a = 0; a < m; ++a) modified += values[a] < floor;
+  for (int a = 0; a < m; ++a) modified += values[a] < floor_;
   Eigen::LLT<Matrix6> metric;
   bool const bounded = parent >= 0 && system.metric.size() == static_cast<std::size_t>(numJoints);
   if (bounded) metric.compute(metric_[i]);
   for (int a = 0; a < m; ++a) {
-    if (!(values[a] < floor)) continue;
-    values[a] = std::max(std::abs(values[a]), floor);
+    if (!(values[a] < floor_)) continue;
+    values[a] = std::max(std::abs(values[a]), floor_);
     if (bounded && metric.info() == Eigen::Success) {
-      Vector6 const u = right_[i] * eigen.eigenvectors().col(a);
-      values[a] = std::max(values[a], 2 * modified * u.dot(metric.solve(u)));
+      // uᵀ W⁻¹ u = ‖L⁻¹ u‖², W = L Lᵀ: one forward substitution
+      Vector6 y = Cols<M>(right_[i]) * eigen.eigenvectors().col(a);
+      auto const& lower = metric.matrixLLT();
+      for (int r = 0; r < 6; ++r) {
+        for (int c = 0; c < r; ++c) y[r] -= lower(r, c) * y[c];
+        y[r] /= lower(r, r);
+      }
+      values[a] = std::max(values[a], 2 * modified * y.squaredNorm());
     }
   }
   pivot.noalias() = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
@@ -199,39 +234,41 @@ void ArticulatedTreeSolver::Solve(System const& system, Span<real const> b, Span
   }
 }
 
-template <int M, class Vec>
-void ArticulatedTreeSolver::PivotSolve(int i, int m, Vec& v) const {
-  constexpr int kMax = M == Eigen::Dynamic ? 6 : M;
-  using Square = Eigen::Matrix<real, M, M, 0, kMax, kMax>;
-  Square const factor = pivotFactor_[i].topLeftCorner(m, m);
-  factor.template triangularView<Eigen::Lower>().solveInPlace(v);
-  factor.transpose().template triangularView<Eigen::Upper>().solveInPlace(v);
+template <int M, class Vector>
+void ArticulatedTreeSolver::PivotSolve(int i, int m, Vector& v) const {
+  // Lᵢ Lᵢᵀ v = b: forward, then back substitution on the kept factor
+  Matrix6 const& lower = pivotFactor_[i];
+  int const size = M == Eigen::Dynamic ? m : M;  // a constant the loops unroll on
+  for (int r = 0; r < size; ++r) {
+    real sum = v[r];
+    for (int c = 0; c < r; ++c) sum -= lower(r, c) * v[c];
+    v[r] = sum / lower(r, r);
+  }
+  for (int r = size - 1; r >= 0; --r) {
+    real sum = v[r];
+    for (int c = r + 1; c < size; ++c) sum -= lower(c, r) * v[c];
+    v[r] = sum / lower(r, r);
+  }
 }
 
 template <int M>
 void ArticulatedTreeSolver::SolveUp(System const& system, int i, Span<real const> b, Span<real> x) {
-  constexpr int kMax = M == Eigen::Dynamic ? 6 : M;
-  using Cols = Eigen::Matrix<real, 6, M, 0, 6, kMax>;
-  using Vec = Eigen::Matrix<real, M, 1, 0, kMax, 1>;
   int const m = system.numDofs[i], first = system.dofStart[i];
-  Cols const s = system.motion.middleCols(first, m);
-  Vec const reduced = Eigen::Map<Vec const>(b.data() + first, m) - s.transpose() * bias_[i];
-  Vec y = reduced;
+  Cols<M> const s = system.motion.middleCols(first, m);
+  Vec<M> const reduced = Eigen::Map<Vec<M> const>(b.data() + first, m) - s.transpose() * bias_[i];
+  Vec<M> y = reduced;
   PivotSolve<M>(i, m, y);
-  Eigen::Map<Vec>(x.data() + first, m) = y;
-  bias_[i].noalias() += Cols(right_[i]) * y;
+  Eigen::Map<Vec<M>>(x.data() + first, m) = y;
+  bias_[i].noalias() += Cols<M>(right_[i]) * y;
 }
 
 template <int M>
 void ArticulatedTreeSolver::SolveDown(System const& system, int i, Span<real> x) {
-  constexpr int kMax = M == Eigen::Dynamic ? 6 : M;
-  using Cols = Eigen::Matrix<real, 6, M, 0, 6, kMax>;
-  using Vec = Eigen::Matrix<real, M, 1, 0, kMax, 1>;
   int const m = system.numDofs[i], first = system.dofStart[i];
-  Cols const s = system.motion.middleCols(first, m);
-  Eigen::Map<Vec> xi(x.data() + first, m);
+  Cols<M> const s = system.motion.middleCols(first, m);
+  Eigen::Map<Vec<M>> xi(x.data() + first, m);
   if (system.parent[i] >= 0) {
-    Vec correction = Cols(right_[i]).transpose() * motionSum_[i];
+    Vec<M> correction = Cols<M>(right_[i]).transpose() * motionSum_[i];
     PivotSolve<M>(i, m, correction);
     xi -= correction;
   }

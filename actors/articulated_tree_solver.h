@@ -53,6 +53,9 @@
 
 namespace superdex::internal {
 
+/// the storage of a joint's kernel of M DoFs (Eigen::Dynamic: up to 6)
+constexpr int Capacity(int m) { return m == Eigen::Dynamic ? 6 : m; }
+
 class ArticulatedTreeSolver {
  public:
   using Matrix6 = Eigen::Matrix<real, 6, 6>;
@@ -88,24 +91,44 @@ class ArticulatedTreeSolver {
   /// those of H + blockdiag(D₊ᵢ − Dᵢ), the changes in each joint's E_i.
   bool Factorize(System const& system, bool makePositiveDefinite = false, int* failedJoint = nullptr,
                  Span<Matrix6> modifications = {});
+  /// After Factorize without `makePositiveDefinite` failed on an indefinite
+  /// pivot: finishes the factorization from that joint with it, the joints
+  /// already eliminated kept (their pivots were positive definite, so a
+  /// modified factorization would have left them as they are). The result is
+  /// Factorize(system, true)'s; `system` is the one that failed, System::metric
+  /// now given where the modification is to be bounded. Without a failed
+  /// exact factorization to continue it is Factorize(system, true).
+  bool ContinueModified(System const& system, int* failedJoint = nullptr);
   /// x = H⁻¹ b with the last factorization; `system` is the one factorized.
   void Solve(System const& system, Span<real const> b, Span<real> x);
   int GetNumModifiedPivots() const { return modifiedPivots_; }
 
  private:
-  using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-  using Columns = Eigen::Matrix<real, 6, Eigen::Dynamic, 0, 6, 6>;
+  /// a joint's M × M pivot and 6 × M columns (M = Eigen::Dynamic: up to 6)
+  template <int M>
+  using Square = Eigen::Matrix<real, M, M, 0, Capacity(M), Capacity(M)>;
+  template <int M>
+  using Cols = Eigen::Matrix<real, 6, M, 0, 6, Capacity(M)>;
+  template <int M>
+  using Vec = Eigen::Matrix<real, M, 1, 0, Capacity(M), 1>;
+  using Columns = Cols<Eigen::Dynamic>;
+  /// The floor and the metric composites of a modification (Factorize's
+  /// `makePositiveDefinite`): a pass over the tree that leaves articulated_ as it is.
+  void PrepareModification(System const& system);
+  /// Eliminates joints `first`, first − 1, …, 0 (Factorize's loop).
+  bool EliminateFrom(System const& system, int first, bool makePositiveDefinite, Span<Matrix6> modifications,
+                     int* failedJoint);
   /// Joint i's pivot, its factor into pivotFactor_ and Z_i out of `passed`, with
   /// kernels of M DoFs (1, 3, 6; Eigen::Dynamic for the others). False
   /// where the pivot is not positive definite (and not modified).
   template <int M>
-  bool Eliminate(System const& system, int i, bool makePositiveDefinite, real floor, Span<Matrix6> modifications,
-                 Matrix6& passed);
+  bool Eliminate(System const& system, int i, bool makePositiveDefinite, Span<Matrix6> modifications, Matrix6& passed);
   /// The modified pivot of joint i (Factorize's `makePositiveDefinite`).
-  void ModifyPivot(System const& system, int i, real floor, Block& pivot);
+  template <int M>
+  void ModifyPivot(System const& system, int i, Square<M>& pivot);
   /// v ← Dᵢ⁻¹ v (m entries) with the kept factor.
-  template <int M, class Vec>
-  void PivotSolve(int i, int m, Vec& v) const;
+  template <int M, class Vector>
+  void PivotSolve(int i, int m, Vector& v) const;
   template <int M>
   void SolveUp(System const& system, int i, Span<real const> b, Span<real> x);
   template <int M>
@@ -116,7 +139,10 @@ class ArticulatedTreeSolver {
   DynamicArray<Vector6> bias_;         ///< Σ over i's strict descendants of q_k = Yᴬ_k S_k Dₖ⁻¹ b̃_k
   DynamicArray<Vector6> motionSum_;    ///< back substitution: Σ over i and its ancestors of S_j x_j
   DynamicArray<Matrix6> pivotFactor_;  ///< Dᵢ's Cholesky factor Lᵢ in the top-left corner
+  DynamicArray<Matrix6> composite_;    ///< PrepareModification's composites Y_i (the floor's scale)
+  real floor_ = 0;                     ///< the modification's eigenvalue floor
   int modifiedPivots_ = 0;
+  int resumeJoint_ = -1;  ///< where the last exact Factorize failed (ContinueModified), −1 if none
 };
 
 }  // namespace superdex::internal

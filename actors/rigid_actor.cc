@@ -123,15 +123,15 @@ void RigidActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
   // w I_b (φ − φ̂), indefinite far from φ̂; projected, the block is the
   // Gauss–Newton one (PSD)
   Real3 force, torque;
-  inertiaStage_.Gradient(state_.position, state_.rotation, force, torque);
+  Real33 rotationHessian;
+  inertiaStage_.Derivatives(state_.position, state_.rotation, force, torque, &rotationHessian, projectHessian);
   force -= mass_ * gravity_;
   Eigen::Matrix<real, 6, 1> gradient;
   gradient << force, torque;
   assembler.AddGradient(firstContributor, gradient);
   Eigen::Matrix<real, 6, 6> hessian = Eigen::Matrix<real, 6, 6>::Zero();
   hessian.topLeftCorner<3, 3>().diagonal().setConstant(inertiaStage_.TranslationStiffness());
-  hessian.bottomRightCorner<3, 3>() = projectHessian ? inertiaStage_.RotationHessianGaussNewton(state_.rotation)
-                                                     : inertiaStage_.RotationHessian(state_.rotation);
+  hessian.bottomRightCorner<3, 3>() = rotationHessian;
   assembler.AddBlock(firstContributor, hessian);
 }
 

@@ -56,43 +56,56 @@ real RigidInertiaStage::Energy(Real3 const& position, Quat const& rotation) cons
   return 0.5 * weight_ * (mass_ * dt.squaredNorm() + dr.dot(inertia_.asDiagonal() * dr));
 }
 
-void RigidInertiaStage::Gradient(Real3 const& position, Quat const& rotation, Real3& force, Real3& torque) const {
+void RigidInertiaStage::Derivatives(Real3 const& position, Quat const& rotation, Real3& force, Real3& torque,
+                                    Real33* rotationHessian, bool gaussNewton) const {
+  // dφ/dδθ = J_l⁻¹(φ) Rⁿᵀ; one Log and one J_l⁻¹ serve the gradient and the
+  // Hessian (an articulated chain's assembly evaluated each twice per link)
   Real3 const phi = StageRotation(rotation);
-  // dφ/dδθ = J_l⁻¹(φ) Rⁿᵀ
-  Real33 const dPhi = LeftJacobianInverse(phi) * startRotation_.conjugate().toRotationMatrix();
+  Real33 const inverse = LeftJacobianInverse(phi);
+  Real33 const rn = startRotation_.toRotationMatrix();
+  Real3 const lambda = weight_ * inertia_.cwiseProduct(phi - targetRotation_);  // w I (φ − φ̂)
   force = weight_ * mass_ * (position - startPosition_ - targetTranslation_);
-  torque = dPhi.transpose() * (weight_ * (inertia_.asDiagonal() * (phi - targetRotation_)));
+  torque = rn * (inverse.transpose() * lambda);
+  if (rotationHessian == nullptr) return;
+  Real33 hessian = weight_ * inverse.transpose() * inertia_.asDiagonal() * inverse;
+  if (!gaussNewton) {
+    // E(u) = ½ w eᵀ I e, e = φ(u) − φ̂, φ(u) = Log(Exp(u) M₀), M₀ = Rⁿᵀ R,
+    // u = Rⁿᵀ δθ. Along u = t a, φ̇ = J_l⁻¹(φ) a and φ̈ = D(J_l⁻¹)(φ)[b] a with
+    // b = J_l⁻¹(φ) a, so aᵀ H a = w φ̇ᵀ I φ̇ + λᵀ φ̈ with λ = w I e. With
+    // J_l⁻¹(φ) = 1 − ½Φ + γ(θ) Φ² (Φ = [φ]×, θ = |φ|),
+    //   λᵀ D(J_l⁻¹)(φ)[b] a = bᵀ M a,
+    //   M = ½[λ]× + (γ′/θ) φ (Φ² λ)ᵀ − γ ([λ]× Φ + [λ × φ]×),
+    // and H = J_l⁻ᵀ w I J_l⁻¹ + sym(J_l⁻ᵀ M). (A closed form of what
+    // second-order jets of Log ∘ Exp gave: 38 % of an articulated chain's
+    // step went to those; rigid_inertia_test compares the two to 1e-12.)
+    real const gamma = LeftJacobianInverseCoefficient(phi.norm());
+    real const gammaRate = LeftJacobianInverseCoefficientRate(phi.norm());
+    Real33 const hatPhi = Hat(phi);
+    Real33 const hatLambda = Hat(lambda);
+    Real33 const m = 0.5 * hatLambda + gammaRate * phi * (hatPhi * hatPhi * lambda).transpose() -
+                     gamma * (hatLambda * hatPhi + Hat(lambda.cross(phi)));
+    Real33 const curvature = inverse.transpose() * m;
+    hessian += 0.5 * (curvature + curvature.transpose());
+  }
+  *rotationHessian = rn * hessian * rn.transpose();
+}
+
+void RigidInertiaStage::Gradient(Real3 const& position, Quat const& rotation, Real3& force, Real3& torque) const {
+  Derivatives(position, rotation, force, torque);
 }
 
 Real33 RigidInertiaStage::RotationHessianGaussNewton(Quat const& rotation) const {
-  Real33 const dPhi = LeftJacobianInverse(StageRotation(rotation)) * startRotation_.conjugate().toRotationMatrix();
-  return weight_ * dPhi.transpose() * inertia_.asDiagonal() * dPhi;
+  Real3 force, torque;
+  Real33 hessian;
+  Derivatives(startPosition_, rotation, force, torque, &hessian, true);
+  return hessian;
 }
 
 Real33 RigidInertiaStage::RotationHessian(Quat const& rotation) const {
-  // E(u) = ½ w eᵀ I e, e = φ(u) − φ̂, φ(u) = Log(Exp(u) M₀), M₀ = Rⁿᵀ R,
-  // u = Rⁿᵀ δθ. Along u = t a, φ̇ = J_l⁻¹(φ) a and φ̈ = D(J_l⁻¹)(φ)[b] a with
-  // b = J_l⁻¹(φ) a, so aᵀ H a = w φ̇ᵀ I φ̇ + λᵀ φ̈ with λ = w I e. With
-  // J_l⁻¹(φ) = 1 − ½Φ + γ(θ) Φ² (Φ = [φ]×, θ = |φ|),
-  //   λᵀ D(J_l⁻¹)(φ)[b] a = bᵀ M a,
-  //   M = ½[λ]× + (γ′/θ) φ (Φ² λ)ᵀ − γ ([λ]× Φ + [λ × φ]×),
-  // and H = J_l⁻ᵀ w I J_l⁻¹ + sym(J_l⁻ᵀ M). (A closed form of what
-  // second-order jets of Log ∘ Exp gave: 38 % of an articulated chain's
-  // step went to those; rigid_inertia_test compares the two to 1e-12.)
-  Real3 const phi = StageRotation(rotation);
-  real const gamma = LeftJacobianInverseCoefficient(phi.norm());
-  real const gammaRate = LeftJacobianInverseCoefficientRate(phi.norm());
-  Real33 const hatPhi = Hat(phi);
-  Real33 const inverse = LeftJacobianInverse(phi);
-  Real3 const lambda = weight_ * inertia_.cwiseProduct(phi - targetRotation_);
-  Real33 const hatLambda = Hat(lambda);
-  Real33 const m = 0.5 * hatLambda + gammaRate * phi * (hatPhi * hatPhi * lambda).transpose() -
-                   gamma * (hatLambda * hatPhi + Hat(lambda.cross(phi)));
-  Real33 const curvature = inverse.transpose() * m;
-  Real33 const hessian = weight_ * inverse.transpose() * inertia_.asDiagonal() * inverse +
-                         0.5 * (curvature + curvature.transpose());
-  Real33 const rn = startRotation_.toRotationMatrix();
-  return rn * hessian * rn.transpose();
+  Real3 force, torque;
+  Real33 hessian;
+  Derivatives(startPosition_, rotation, force, torque, &hessian);
+  return hessian;
 }
 
 void RigidInertiaStage::End(Real3 const& position, Quat const& rotation, RigidBodyMotion& motion) const {

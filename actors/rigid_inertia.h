@@ -35,6 +35,11 @@ class RigidInertiaStage {
   void Begin(StageCoefficients const& stage, real mass, Real3 const& inertia, RigidBodyMotion const& motion);
 
   real Energy(Real3 const& position, Quat const& rotation) const;
+  /// ∂E/∂t (`force`), ∂E/∂δθ (`torque`), world frame, and where
+  /// `rotationHessian` is given ∂²E/∂δθ² (exact, or with `gaussNewton` its
+  /// PSD Gauss–Newton part: see RotationHessian*), from one Log and one J_l⁻¹.
+  void Derivatives(Real3 const& position, Quat const& rotation, Real3& force, Real3& torque,
+                   Real33* rotationHessian = nullptr, bool gaussNewton = false) const;
   /// ∂E/∂t (`force`) and ∂E/∂δθ (`torque`), world frame.
   void Gradient(Real3 const& position, Quat const& rotation, Real3& force, Real3& torque) const;
   /// ∂²E/∂t² = w m I.

@@ -188,3 +188,35 @@ TEST_CASE("the modified tree factorization is positive definite, and H itself wh
   MatrixX const symmetric = 0.5 * (inverse + inverse.transpose());
   CHECK(Eigen::SelfAdjointEigenSolver<MatrixX>(symmetric).eigenvalues().minCoeff() > 0);
 }
+
+TEST_CASE("a modified factorization continued from a failed exact one is the modified factorization",
+          "[actors][articulated][tree]") {
+  // ContinueModified keeps the joints the exact attempt eliminated (their
+  // pivots were definite, so the modification leaves them): the same factors
+  // as Factorize(…, true), to the last bit
+  int const shape = GENERATE(0, 1, 2);
+  CAPTURE(shape);
+  RandomTree const indefinite = MakeTree(15, shape, 11, -3);
+  int const n = indefinite.n;
+  // with a metric, so that the modification's bound takes part
+  DynamicArray<Matrix6> const metric(indefinite.parent.size(), Matrix6::Identity());
+  ArticulatedTreeSolver::System system = indefinite.View();
+  system.metric = metric;
+  VectorX b(n), direct(n), continued(n);
+  for (int i = 0; i < n; ++i) b[i] = std::sin(0.3 + 1.7 * i);
+  ArticulatedTreeSolver solver;
+  REQUIRE(solver.Factorize(system, true));
+  int const modified = solver.GetNumModifiedPivots();
+  solver.Solve(system, Span<real const>(b.data(), n), Span<real>(direct.data(), n));
+  int failedJoint = -1;
+  REQUIRE_FALSE(solver.Factorize(system, false, &failedJoint));
+  REQUIRE(solver.ContinueModified(system));
+  CHECK(solver.GetNumModifiedPivots() == modified);
+  solver.Solve(system, Span<real const>(b.data(), n), Span<real>(continued.data(), n));
+  CHECK((continued - direct).norm() == 0);
+  // without a failed exact factorization to continue, it factorizes afresh
+  ArticulatedTreeSolver fresh;
+  REQUIRE(fresh.ContinueModified(system));
+  fresh.Solve(system, Span<real const>(b.data(), n), Span<real>(continued.data(), n));
+  CHECK((continued - direct).norm() == 0);
+}
