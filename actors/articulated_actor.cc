@@ -260,8 +260,7 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
 }
 
 void ArticulatedActor::PoseLink(int i, JointState const& q, Real3 const& parentPosition,
-                                Quat const& parentRotation, LinkPose& pose,
-                                Eigen::Ref<Eigen::Matrix<real, 6, Eigen::Dynamic>> motion) const {
+                                Quat const& parentRotation, LinkPose& pose) const {
   Link const& l = links_[i];
   Quat const pre = parentRotation * l.parentToJointRotation;
   Real3 origin = parentPosition + parentRotation * l.parentToJointPosition;
@@ -282,37 +281,43 @@ void ArticulatedActor::PoseLink(int i, JointState const& q, Real3 const& parentP
   pose.jointOrigin = origin;
   pose.linkRotation = (post * l.jointToChildRotation).normalized();
   pose.linkPosition = origin + post * l.jointToChildPosition;
+}
+
+void ArticulatedActor::JointMotion(int i, Quat const& pre, Quat const& post, Real3 const& origin,
+                                   Eigen::Ref<Eigen::Matrix<real, 6, Eigen::Dynamic>> motion) const {
   // each DoF's world motion (ω; v at the origin), v_O = o × ω for a rotation about o
-  Real33 const preMatrix = pre.toRotationMatrix(), postMatrix = post.toRotationMatrix();
+  Link const& l = links_[i];
   auto rotationAbout = [&](int column, Real3 const& omega) { motion.col(column) << omega, origin.cross(omega); };
   auto translationAlong = [&](int column, Real3 const& direction) {
     motion.col(column) << Real3::Zero(), direction;
   };
   switch (l.joint) {
-    case JointType::Revolute: rotationAbout(0, preMatrix * l.axis); break;
-    case JointType::Prismatic: translationAlong(0, preMatrix * l.axis); break;
-    case JointType::Spherical:
+    case JointType::Revolute: rotationAbout(0, pre * l.axis); break;
+    case JointType::Prismatic: translationAlong(0, pre * l.axis); break;
+    case JointType::Spherical: {
+      Real33 const postMatrix = post.toRotationMatrix();
       for (int a = 0; a < 3; ++a) rotationAbout(a, postMatrix.col(a));
       break;
-    case JointType::Free:
+    }
+    case JointType::Free: {
+      Real33 const preMatrix = pre.toRotationMatrix(), postMatrix = post.toRotationMatrix();
       for (int a = 0; a < 3; ++a) translationAlong(a, preMatrix.col(a));
       for (int a = 0; a < 3; ++a) rotationAbout(3 + a, postMatrix.col(a));
       break;
+    }
     case JointType::Fixed: break;
   }
 }
 
-void ArticulatedActor::ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k) const {
+void ArticulatedActor::ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k, bool withMotion) const {
   int const numLinks = GetNumLinks();
   for (auto* v : {&k.linkPosition, &k.com, &k.jointOrigin}) v->resize(numLinks);
   for (auto* v : {&k.linkRotation, &k.preRotation, &k.postRotation}) v->resize(numLinks);
-  k.motion.resize(6, numDofs_);
   for (int i = 0; i < numLinks; ++i) {
     Link const& l = links_[i];
     LinkPose pose;
     PoseLink(i, joints[i], l.parent < 0 ? Real3::Zero() : k.linkPosition[l.parent],
-             l.parent < 0 ? Quat::Identity() : k.linkRotation[l.parent], pose,
-             k.motion.middleCols(l.dofStart, l.numDofs));
+             l.parent < 0 ? Quat::Identity() : k.linkRotation[l.parent], pose);
     k.preRotation[i] = pose.preRotation;
     k.postRotation[i] = pose.postRotation;
     k.jointOrigin[i] = pose.jointOrigin;
@@ -320,15 +325,28 @@ void ArticulatedActor::ComputeKinematics(DynamicArray<JointState> const& joints,
     k.linkPosition[i] = pose.linkPosition;
     k.com[i] = pose.linkPosition + pose.linkRotation * l.centerOfMass;
   }
+  k.hasMotion = withMotion;
+  if (withMotion) ComputeMotion(k);
 }
 
-void ArticulatedActor::UpdateKinematics() const {
+void ArticulatedActor::ComputeMotion(Kinematics& k) const {
+  k.motion.resize(6, numDofs_);
+  for (int i = 0; i < GetNumLinks(); ++i)
+    JointMotion(i, k.preRotation[i], k.postRotation[i], k.jointOrigin[i],
+                k.motion.middleCols(links_[i].dofStart, links_[i].numDofs));
+  k.hasMotion = true;
+}
+
+void ArticulatedActor::UpdateKinematics(bool withMotion) const {
   auto const same = [](JointState const& a, JointState const& b) {
     return a.scalar == b.scalar && a.translation == b.translation && a.rotation.coeffs() == b.rotation.coeffs();
   };
-  if (std::equal(state_.joints.begin(), state_.joints.end(), kinematicsJoints_.begin(), kinematicsJoints_.end(), same))
+  if (std::equal(state_.joints.begin(), state_.joints.end(), kinematicsJoints_.begin(), kinematicsJoints_.end(),
+                 same)) {
+    if (withMotion && !kinematics_.hasMotion) ComputeMotion(kinematics_);
     return;
-  ComputeKinematics(state_.joints, kinematics_);
+  }
+  ComputeKinematics(state_.joints, kinematics_, withMotion);
   kinematicsJoints_ = state_.joints;
 }
 
@@ -361,7 +379,9 @@ void ArticulatedActor::ComputeLinkFrame(internal::LinkPath& path) const {
   int column = 0;
   for (int i : path.links) {
     LinkPose pose;
-    PoseLink(i, state_.joints[i], position, rotation, pose, path.jacobian.middleCols(column, links_[i].numDofs));
+    PoseLink(i, state_.joints[i], position, rotation, pose);
+    JointMotion(i, pose.preRotation, pose.postRotation, pose.jointOrigin,
+                path.jacobian.middleCols(column, links_[i].numDofs));
     column += links_[i].numDofs;
     position = pose.linkPosition;
     rotation = pose.linkRotation;
@@ -611,7 +631,7 @@ void ArticulatedActor::BeginStage(internal::StageCoefficients const& requested, 
 
 real ArticulatedActor::Energy(internal::OwnedContributors owned) const {
   if (!owned(0)) return 0;  // its one dense contributor
-  UpdateKinematics();
+  UpdateKinematics(false);
   real energy = 0;
   for (int i = 0; i < GetNumLinks(); ++i)
     energy += inertia_[i].Energy(kinematics_.com[i], kinematics_.linkRotation[i]) -
@@ -1174,7 +1194,7 @@ bool ArticulatedActor::IsStateFinite() const {
 }
 
 void ArticulatedActor::EndStage() {
-  UpdateKinematics();
+  UpdateKinematics(false);
   for (int i = 0; i < GetNumLinks(); ++i)
     inertia_[i].End(kinematics_.com[i], kinematics_.linkRotation[i], state_.links[i]);
   // joint velocities: (Δq − c Δₚ)/(β h) in increment coordinates

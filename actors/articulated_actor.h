@@ -220,6 +220,7 @@ class ArticulatedActor final : public Actor {
     DynamicArray<Real3> linkPosition, com, jointOrigin;
     DynamicArray<Quat> linkRotation, preRotation, postRotation;
     Eigen::Matrix<real, 6, Eigen::Dynamic> motion;  ///< column k: DoF k's (ω; v_O)
+    bool hasMotion = false;  ///< motion is computed (the energy needs the poses only)
   };
 
   void AppendDofBlockSizes(DynamicArray<int>& sizes) const override;
@@ -248,11 +249,13 @@ class ArticulatedActor final : public Actor {
   void SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const override;
   void RestoreSnapshot(internal::ActorSnapshot const& snapshot) override;
 
-  void ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k) const;
+  void ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k, bool withMotion = true) const;
+  /// k.motion from k's poses
+  void ComputeMotion(Kinematics& k) const;
   /// kinematics_ for state_.joints, computed only where the joints changed
   /// since the last call (the line search's accepted energy and the next
   /// assembly share one pass)
-  void UpdateKinematics() const;
+  void UpdateKinematics(bool withMotion = true) const;
   /// One link's pose from its parent's (the world's for the root) and its
   /// joint's state; its DoFs' world motion (ω; v_O) into `motion` (one
   /// column per DoF of the joint).
@@ -261,7 +264,10 @@ class ArticulatedActor final : public Actor {
     Quat linkRotation, preRotation, postRotation;
   };
   void PoseLink(int link, JointState const& q, Real3 const& parentPosition, Quat const& parentRotation,
-                LinkPose& pose, Eigen::Ref<Eigen::Matrix<real, 6, Eigen::Dynamic>> motion) const;
+                LinkPose& pose) const;
+  /// Joint `link`'s DoF columns (ω; v_O) of the world motion, from its pose
+  void JointMotion(int link, Quat const& preRotation, Quat const& postRotation, Real3 const& jointOrigin,
+                   Eigen::Ref<Eigen::Matrix<real, 6, Eigen::Dynamic>> motion) const;
   /// q ⊖ q⁰ of joint `link` in its increment coordinates (spherical/free
   /// rotations: Log(R⁰ᵀ R), local), written at out[0..numDofs).
   void JointDifference(int link, JointState const& q, JointState const& q0, real* out) const;
