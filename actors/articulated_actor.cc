@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include <superdex/assembly/hessian_assembler.h>
 #include <superdex/core/so3.h>
 #include <superdex/core/validate.h>
@@ -651,7 +653,8 @@ real ArticulatedActor::Energy(internal::OwnedContributors owned) const {
   return energy;
 }
 
-void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
+void ArticulatedActor::ComputeGradientAndTreeTerms(internal::HessianAssembler const& assembler,
+                                                   bool projectHessian) const {
   using internal::ArticulatedTreeSolver;
   UpdateKinematics();
   Kinematics const& k = kinematics_;
@@ -672,18 +675,22 @@ void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
   // pure torque; subtree sums of f, of the moment Σ (τ + (c − o) × f), of τ,
   // of (c − o) fᵀ, and of Y = spatial stiffness + curvature, each about the
   // subtree root's joint origin o (shifted on the way up)
-  for (int i = 0; i < numLinks; ++i) {
-    Real3 f, tau;
-    Real33 rotation;
-    inertia_[i].Derivatives(k.com[i], k.linkRotation[i], f, tau, &rotation);
-    f -= links_[i].mass * gravity_;
-    Real3 const arm = k.com[i] - k.jointOrigin[i];
-    wrenchForce_[i] = f;
-    wrenchMoment_[i] = tau + arm.cross(f);
-    torqueSum_[i] = tau;
-    forceMoment_[i] = arm * f.transpose();
-    own_[i] = SpatialStiffness(rotation, inertia_[i].TranslationStiffness(), arm) + Curvature(forceMoment_[i], f, tau);
-  }
+  // (each link's own terms on the assembler's threads: they are independent)
+  assembler.ParallelFor(numLinks, internal::kElementGrain, [&](int begin, int end, int) {
+    for (int i = begin; i < end; ++i) {
+      Real3 f, tau;
+      Real33 rotation;
+      inertia_[i].Derivatives(k.com[i], k.linkRotation[i], f, tau, &rotation);
+      f -= links_[i].mass * gravity_;
+      Real3 const arm = k.com[i] - k.jointOrigin[i];
+      wrenchForce_[i] = f;
+      wrenchMoment_[i] = tau + arm.cross(f);
+      torqueSum_[i] = tau;
+      forceMoment_[i] = arm * f.transpose();
+      own_[i] =
+          SpatialStiffness(rotation, inertia_[i].TranslationStiffness(), arm) + Curvature(forceMoment_[i], f, tau);
+    }
+  });
   // the composites Y only for the dense block (the tree solver forms its own)
   bool const dense = !SolvesOwnBlock();
   if (dense)
@@ -792,7 +799,7 @@ void ArticulatedActor::ComputeGradientAndTreeTerms(bool projectHessian) const {
 void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
                                              int firstContributor, bool projectHessian) const {
   if (!assembler.Evaluates(firstContributor)) return;
-  ComputeGradientAndTreeTerms(projectHessian);
+  ComputeGradientAndTreeTerms(assembler, projectHessian);
   int const numLinks = GetNumLinks();
   if (SolvesOwnBlock()) {
     // one contributor per joint: its gradient and diagonal block; the rest of
@@ -1014,12 +1021,14 @@ bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, 
     // the scene's matrix, so its projection is its own; the retry cost the
     // falling chain ~2 extra assemblies per step). The metric that bounds the
     // modification: each link's inertia w·M about its joint origin
-    for (int i = 0; i < GetNumLinks(); ++i) {
-      Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
-      real const w = inertia_[i].Weight();
-      linkMetric_[i] = SpatialStiffness(w * r * links_[i].inertia.asDiagonal() * r.transpose(), w * links_[i].mass,
-                                        kinematics_.com[i] - kinematics_.jointOrigin[i]);
-    }
+    assembler.ParallelFor(GetNumLinks(), internal::kElementGrain, [&](int begin, int end, int) {
+      for (int i = begin; i < end; ++i) {
+        Real33 const r = kinematics_.linkRotation[i].toRotationMatrix();
+        real const w = inertia_[i].Weight();
+        linkMetric_[i] = SpatialStiffness(w * r * links_[i].inertia.asDiagonal() * r.transpose(),
+                                          w * links_[i].mass, kinematics_.com[i] - kinematics_.jointOrigin[i]);
+      }
+    });
     ++modifiedTreeFactorizations_;
     if (couplingDofs_.empty() || !separateCouplings) {
       // from the joint where the exact attempt failed (the joints before it
@@ -1049,6 +1058,32 @@ bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, 
                      treeSolver_.Factorize(TreeSystem(), true, &failedLink);
       }
     }
+  }
+  if (!factorized) {
+    // Last resort: the Gauss–Newton Hessian, each link's inertia metric w·M
+    // (linkMetric_) for its own block and each joint's extra block projected
+    // onto its PSD part: positive definite, so its step descends. The
+    // modified factorization can fail where a modified pivot's Schur
+    // complement leaves directions the joint does not eliminate (a spherical
+    // joint's translations) to grow up the chain: a 500-link falling chain
+    // at dt = 1/60 grew its pivots by ~3 % per joint after the first
+    // modification, from 1e9 to 1e17, where round-off made the last one fail
+    // (docs/articulated.md, "Indefinite iterates")
+    for (int i = 0; i < GetNumLinks(); ++i) {
+      own_[i] = linkMetric_[i];
+      int const m = links_[i].numDofs;
+      if (m == 0) continue;
+      using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;  // no allocation
+      Eigen::SelfAdjointEigenSolver<Block> extra(Block(jointBlocks_[i].topLeftCorner(m, m)));
+      jointBlocks_[i].topLeftCorner(m, m) = extra.eigenvectors() *
+                                            extra.eigenvalues().cwiseMax(0).asDiagonal() *
+                                            extra.eigenvectors().transpose();
+    }
+    for (CoupledLink& coupled : coupledLinks_) coupled.ownWithout = own_[coupled.link];
+    JoinCouplingStiffness(true);
+    ++gaussNewtonTreeFactorizations_;
+    factorized = treeSolver_.Factorize(TreeSystem(), false, &failedLink) ||
+                 treeSolver_.Factorize(TreeSystem(), true, &failedLink);
   }
   if (!factorized) {
     reason = "the articulated actor's Hessian has no positive definite modification (tree recursion, pivot of "

@@ -138,6 +138,9 @@ class ArticulatedActor final : public Actor {
   /// Tree factorizations made positive definite (the exact Hessian was
   /// indefinite, or the scene projects every Hessian) since creation.
   long GetNumModifiedTreeFactorizations() const { return modifiedTreeFactorizations_; }
+  /// Tree factorizations that fell back to the Gauss–Newton Hessian (the
+  /// modified one failed; docs/articulated.md, "Indefinite iterates")
+  long GetNumGaussNewtonTreeFactorizations() const { return gaussNewtonTreeFactorizations_; }
 
   /// The path of `link` for a constraint acting on it as a rigid body
   /// (internal: actors/link_path.h), its frame evaluated at the current
@@ -308,7 +311,7 @@ class ArticulatedActor final : public Actor {
   /// subtrees, composite_ (Y_c) and the wrench sums; jointBlocks_ (each
   /// joint's E_c = H_cc − sym(S_cᵀ Y_c S_c), the joint-space terms included)
   /// and gradient_.
-  void ComputeGradientAndTreeTerms(bool projectHessian) const;
+  void ComputeGradientAndTreeTerms(internal::HessianAssembler const& assembler, bool projectHessian) const;
   /// A constraint taken into the tree (FoldConstraint): on the link,
   /// which of its actor slots the link is; where it couples the link with
   /// another body, that body's DoFs' places in couplingDofs_ and the coupled
@@ -381,6 +384,7 @@ class ArticulatedActor final : public Actor {
   int foldedMaxDimension_ = 1, foldedMaxDofs_ = 1;
   ConstraintHessian foldedSceneHessian_ = ConstraintHessian::GeometricStiffness;
   long modifiedTreeFactorizations_ = 0;
+  long gaussNewtonTreeFactorizations_ = 0;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> composite_;
   mutable DynamicArray<Real3> wrenchForce_, wrenchMoment_, torqueSum_;
   mutable DynamicArray<Real33> forceMoment_;

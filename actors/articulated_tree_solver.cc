@@ -48,6 +48,7 @@ void ArticulatedTreeSolver::Reserve(int numJoints) {
   bias_.resize(n);
   motionSum_.resize(n);
   pivotFactor_.resize(n);
+  pivotReciprocal_.resize(n);
   composite_.resize(n);
 }
 
@@ -156,16 +157,18 @@ bool ArticulatedTreeSolver::Eliminate(System const& system, int i, bool makePosi
   }
   // the Cholesky factor Lᵢ kept (the solves: triangular, of fixed size)
   pivotFactor_[i].topLeftCorner(m, m) = factor.matrixL();
+  pivotReciprocal_[i].head(m) = factor.matrixLLT().diagonal().cwiseInverse();
   // H_ji = S_jᵀ Yᴬ_i S_i for every strict ancestor j, H_ij its transpose:
   // Z_i = (Yᴬ_i S_i) Dᵢ⁻¹ (Yᴬ_i S_i)ᵀ = Wᵀ W, W = Lᵢ⁻¹ (Yᴬ_i S_i)ᵀ
   if (parent >= 0) {
     // W by forward substitution, row by row (Eigen's triangular solve with a
     // matrix right-hand side goes through its general blocked kernel)
     auto const& lower = factor.matrixLLT();
+    Vector6 const& reciprocal = pivotReciprocal_[i];
     Eigen::Matrix<real, M, 6, M == 1 ? Eigen::RowMajor : Eigen::ColMajor, Capacity(M), 6> w = ys.transpose();
     for (int r = 0; r < m; ++r) {
       for (int c = 0; c < r; ++c) w.row(r) -= lower(r, c) * w.row(c);
-      w.row(r) /= lower(r, r);
+      w.row(r) *= reciprocal[r];
     }
     passed.noalias() -= w.transpose() * w;
   }
@@ -237,17 +240,19 @@ void ArticulatedTreeSolver::Solve(System const& system, Span<real const> b, Span
 template <int M, class Vector>
 void ArticulatedTreeSolver::PivotSolve(int i, int m, Vector& v) const {
   // Lᵢ Lᵢᵀ v = b: forward, then back substitution on the kept factor
+  // (the diagonal's reciprocals kept: no division in the solves)
   Matrix6 const& lower = pivotFactor_[i];
+  Vector6 const& reciprocal = pivotReciprocal_[i];
   int const size = M == Eigen::Dynamic ? m : M;  // a constant the loops unroll on
   for (int r = 0; r < size; ++r) {
     real sum = v[r];
     for (int c = 0; c < r; ++c) sum -= lower(r, c) * v[c];
-    v[r] = sum / lower(r, r);
+    v[r] = sum * reciprocal[r];
   }
   for (int r = size - 1; r >= 0; --r) {
     real sum = v[r];
     for (int c = r + 1; c < size; ++c) sum -= lower(c, r) * v[c];
-    v[r] = sum / lower(r, r);
+    v[r] = sum * reciprocal[r];
   }
 }
 

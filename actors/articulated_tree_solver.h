@@ -139,6 +139,7 @@ class ArticulatedTreeSolver {
   DynamicArray<Vector6> bias_;         ///< Σ over i's strict descendants of q_k = Yᴬ_k S_k Dₖ⁻¹ b̃_k
   DynamicArray<Vector6> motionSum_;    ///< back substitution: Σ over i and its ancestors of S_j x_j
   DynamicArray<Matrix6> pivotFactor_;  ///< Dᵢ's Cholesky factor Lᵢ in the top-left corner
+  DynamicArray<Vector6> pivotReciprocal_;  ///< 1 / Lᵢ's diagonal
   DynamicArray<Matrix6> composite_;    ///< PrepareModification's composites Y_i (the floor's scale)
   real floor_ = 0;                     ///< the modification's eigenvalue floor
   int modifiedPivots_ = 0;
