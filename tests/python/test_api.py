@@ -35,7 +35,8 @@ EXPECTED = {
                     "get_twist_velocity get_twist_inertia get_total_mass get_rest_length get_material_frame "
                     "get_material_frame_jacobian get_strain get_rest_strain get_stiffness get_kinetic_energy "
                     "get_elastic_energy",
-    mochi.ArticulatedActor: "get_num_links get_block_solve is_solved_on_tree get_num_coupled_constraints get_num_coupled_dofs get_joint_type get_parent get_joint_dof_offset get_joint_num_dofs "
+    mochi.ArticulatedActor: "get_num_links get_block_solve is_solved_on_tree get_num_coupled_constraints get_num_coupled_dofs "
+                            "get_num_modified_tree_factorizations get_num_gauss_newton_tree_factorizations get_joint_type get_parent get_joint_dof_offset get_joint_num_dofs "
                             "is_floating_base get_link_position get_link_rotation get_link_center_of_mass "
                             "get_link_linear_velocity get_link_angular_velocity get_link_mass "
                             "get_joint_positions get_joint_velocities get_joint_rotation get_joint_coordinate "

@@ -268,6 +268,9 @@ def test_articulated_pendulum_mass_matrix_and_motion():
     np.testing.assert_allclose(com, [length / 2 * math.cos(theta), length / 2 * math.sin(theta), 0], atol=1e-12)
     # solved by the tree recursion (the default); the dense block steps the same motion
     assert arm.get_block_solve() == mochi.ArticulatedBlockSolve.Tree and arm.is_solved_on_tree()
+    # a link falling from rest: the exact Hessian stays positive definite, nothing modified
+    assert arm.get_num_modified_tree_factorizations() == 0
+    assert arm.get_num_gauss_newton_tree_factorizations() == 0
     dense_scene = mochi.Scene.create()
     dense = dense_scene.create_articulated_actor(mochi.ArticulatedActorParams(
         links=[link], block_solve=mochi.ArticulatedBlockSolve.Dense))

@@ -69,6 +69,9 @@ void DefineArticulatedActor(py::module_& m) {
            "The other bodies' DoFs those couplings reach (their dense block in the scene's matrix).")
       .def("get_num_modified_tree_factorizations", Forward<Ref>(&A::GetNumModifiedTreeFactorizations),
            "Tree factorizations made positive definite (indefinite exact Hessian) since creation.")
+      .def("get_num_gauss_newton_tree_factorizations", Forward<Ref>(&A::GetNumGaussNewtonTreeFactorizations),
+           "Tree factorizations that fell back to the Gauss-Newton Hessian (the modified one failed) since "
+           "creation.")
       .def("get_joint_type", ForwardIndexed<Ref>(&A::GetJointType, links, "link"), py::arg("link"))
       .def("get_parent", ForwardIndexed<Ref>(&A::GetParent, links, "link"), py::arg("link"),
            "The parent link, -1 for the world.")
