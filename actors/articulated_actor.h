@@ -333,7 +333,8 @@ class ArticulatedActor final : public Actor {
     int link = -1;
     DynamicArray<int> dofs;
     Eigen::Matrix<real, 6, Eigen::Dynamic> jacobian, coupling;
-    Eigen::Matrix<real, 6, 6> stiffness, ownWithout;
+    Eigen::Matrix<real, 6, 6> stiffness = Eigen::Matrix<real, 6, 6>::Zero();
+    Eigen::Matrix<real, 6, 6> ownWithout = Eigen::Matrix<real, 6, 6>::Zero();
   };
   /// own_ at the coupled links with (or without) their couplings' stiffness.
   void JoinCouplingStiffness(bool join);
