@@ -437,20 +437,13 @@ TEST_CASE("the tree recursion steps the same trajectory as the dense block", "[s
 }
 
 namespace {
-/// The harness's chain-articulated: `links` spherical joints 0.1 m apart
-/// along x, 1 kg links 0.1 × 0.02 × 0.02 m
+/// The harness's chain-articulated: SphericalChain's joints with its 1 kg
+/// links of 0.1 × 0.02 × 0.02 m
 ArticulatedActorParams HorizontalChain(int links, ArticulatedBlockSolve solve) {
-  ArticulatedActorParams p;
-  p.blockSolve = solve;
-  for (int i = 0; i < links; ++i) {
-    ArticulatedLinkParams link;
-    link.parent = i - 1;
-    link.joint = JointType::Spherical;
-    link.parentToJointPosition = i == 0 ? Real3::Zero() : Real3(0.1, 0, 0);
+  ArticulatedActorParams p = SphericalChain(links, solve);
+  for (ArticulatedLinkParams& link : p.links) {
     link.mass = 1;
     link.inertia = Real3(2 * 4e-4 / 12, (0.01 + 4e-4) / 12, (0.01 + 4e-4) / 12);
-    link.centerOfMass = Real3(0.05, 0, 0);
-    p.links.push_back(link);
   }
   return p;
 }
