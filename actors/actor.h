@@ -119,6 +119,13 @@ class Actor {
   /// in one process. Across MPI ranks each rank counts its own contributors
   /// and the stage solver adds the ranks' sums (docs/distributed.md).
   virtual real Energy(internal::OwnedContributors owned) const = 0;
+  /// The magnitude the round-off of the last Energy scales with beyond |E|
+  /// itself (energy units; eps times it bounds that round-off): an energy
+  /// made of differences of poses, or of terms that cancel, resolves
+  /// changes far coarser than eps |E|. The stage solver adds it to Σ|terms|
+  /// for the resolution of Eᵢ (its line search's allowance and its
+  /// round-off stall test). 0: |E| is the scale.
+  virtual real EnergyRoundOffScale() const { return 0; }
   /// Adds the energy gradient and the Hessian blocks through the assembler
   /// (AddGradient, AddBlock: at most one of each per contributor),
   /// contributors starting at `firstContributor`; loops over many elements

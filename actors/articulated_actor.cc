@@ -185,6 +185,7 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   ArticulatedActor& a = *actor;
   a.links_ = std::move(links);
   a.blockSolve_ = params.blockSolve;
+  a.extrapolateFirstIterate_ = params.extrapolateFirstIterate;
   a.dofLink_.resize(numDofs);
   for (int i = 0; i < numLinks; ++i) {
     Link const& l = a.links_[i];
@@ -628,16 +629,34 @@ void ArticulatedActor::BeginStage(internal::StageCoefficients const& requested, 
     }
   }
   saved_ = state_.joints;
-  ApplyLocalIncrement(jointTarget_.data(), 1);
+  // Newton's first iterate: the prediction, or, with a history, the joint
+  // velocity extrapolated at the last step's acceleration,
+  // v* = vⁿ + (h/hₚ)(vⁿ − vⁿ⁻¹), placed as the stage's update places a
+  // velocity: Δ = c Δₚ + β h v* (the minimizer does not depend on it)
+  firstIterate_ = jointTarget_;
+  if (extrapolateFirstIterate_ && state_.hasHistory && state_.lastStageDuration > 0) {
+    real const r = stage_.duration / state_.lastStageDuration;
+    firstIterate_ += betaH * ((1 - stage_.aVelocity + r) * state_.jointVelocity -
+                              (stage_.bVelocity + r) * state_.previousJointVelocity);
+  }
+  ApplyLocalIncrement(firstIterate_.data(), 1);
 }
 
 real ArticulatedActor::Energy(internal::OwnedContributors owned) const {
+  energyRoundOffScale_ = 0;
   if (!owned(0)) return 0;  // its one dense contributor
   UpdateKinematics(false);
-  real energy = 0;
-  for (int i = 0; i < GetNumLinks(); ++i)
-    energy += inertia_[i].Energy(kinematics_.com[i], kinematics_.linkRotation[i]) -
-              links_[i].mass * gravity_.dot(kinematics_.com[i]);
+  // the links' terms cancel (gravity against inertia) and are differences
+  // of poses: their round-off scale (Actor::EnergyRoundOffScale)
+  real energy = 0, scale = 0;
+  for (int i = 0; i < GetNumLinks(); ++i) {
+    real inertiaScale = 0;
+    real const inertia = inertia_[i].Energy(kinematics_.com[i], kinematics_.linkRotation[i], &inertiaScale);
+    real const gravity = links_[i].mass * gravity_.dot(kinematics_.com[i]);
+    energy += inertia - gravity;
+    scale += inertia + inertiaScale + std::abs(gravity);
+  }
+  energyRoundOffScale_ = scale;
   // joint-space terms: ½ w a (Δq − Δ̂q)² + d/(2h) Δq²
   real const weight = stage_.InertiaWeight(), h = stage_.duration;
   for (int i = 0; i < GetNumLinks(); ++i) {
@@ -1245,6 +1264,7 @@ void ArticulatedActor::EndStage() {
   }
   state_.previousJoints = stageStart_;
   state_.hasHistory = true;
+  state_.lastStageDuration = stage_.duration;
 }
 
 void ArticulatedActor::SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const {

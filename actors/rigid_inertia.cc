@@ -50,10 +50,15 @@ void RigidInertiaStage::Begin(StageCoefficients const& stage, real mass, Real3 c
   }
 }
 
-real RigidInertiaStage::Energy(Real3 const& position, Quat const& rotation) const {
+real RigidInertiaStage::Energy(Real3 const& position, Quat const& rotation, real* roundOffScale) const {
   Real3 const dt = position - startPosition_ - targetTranslation_;
   Real3 const dr = StageRotation(rotation) - targetRotation_;
-  return 0.5 * weight_ * (mass_ * dt.squaredNorm() + dr.dot(inertia_.asDiagonal() * dr));
+  Real3 const moment = inertia_.cwiseProduct(dr);
+  if (roundOffScale != nullptr)
+    *roundOffScale = weight_ * (mass_ * dt.norm() *
+                                    (position.norm() + startPosition_.norm() + targetTranslation_.norm()) +
+                                moment.norm());
+  return 0.5 * weight_ * (mass_ * dt.squaredNorm() + dr.dot(moment));
 }
 
 void RigidInertiaStage::Derivatives(Real3 const& position, Quat const& rotation, Real3& force, Real3& torque,

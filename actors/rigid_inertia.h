@@ -34,7 +34,12 @@ class RigidInertiaStage {
   /// the effective coefficients (backward Euler for a body without history).
   void Begin(StageCoefficients const& stage, real mass, Real3 const& inertia, RigidBodyMotion const& motion);
 
-  real Energy(Real3 const& position, Quat const& rotation) const;
+  /// With `roundOffScale`: also the magnitude its round-off scales with, in
+  /// energy units (eps times it bounds the error of E from the rounding of
+  /// the pose, ~ w m |Δx − Δx̂| (|x| + |xⁿ| + |Δx̂|) + w |I (φ − φ̂)|): E is a
+  /// difference of poses, so near the stage minimum it is resolved far more
+  /// coarsely than its own size says.
+  real Energy(Real3 const& position, Quat const& rotation, real* roundOffScale = nullptr) const;
   /// ∂E/∂t (`force`), ∂E/∂δθ (`torque`), world frame, and where
   /// `rotationHessian` is given ∂²E/∂δθ² (exact, or with `gaussNewton` its
   /// PSD Gauss–Newton part: see RotationHessian*), from one Log and one J_l⁻¹.

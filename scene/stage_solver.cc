@@ -46,9 +46,12 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 /// Armijo's sufficient decrease (c = 1e-4) for a step of α along a direction
-/// of slope ∇E·δ, with a round-off allowance of 1e-12 |E|
-bool SufficientDecrease(real energy, real trialEnergy, real alpha, real slope) {
-  real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(trialEnergy));
+/// of slope ∇E·δ, with a round-off allowance of 1e-12 |E| plus the
+/// resolution of Eᵢ (kRoundOffUlps ulps of its scale): a full Newton step
+/// near the minimum, whose decrease is below what Eᵢ resolves, is taken
+/// rather than halved on round-off until it no longer moves the iterate
+bool SufficientDecrease(real energy, real trialEnergy, real alpha, real slope, real resolution) {
+  real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(trialEnergy)) + resolution;
   return std::isfinite(trialEnergy) && trialEnergy <= energy + 1e-4 * alpha * slope + allowance;
 }
 std::string Where(int stageIndex, int iteration) {
@@ -442,7 +445,7 @@ real StageSolver::TotalEnergy(DynamicArray<Actor*> const& actors,
     real const term = actors[a]->Energy(assembler_.GetOwnedContributors(
         firstContributor_[a], firstContributor_[a + 1] - firstContributor_[a]));
     energy += term;
-    scale += std::abs(term);
+    scale += std::abs(term) + actors[a]->EnergyRoundOffScale();
   }
   for (std::size_t c = 0; c < constraints.size(); ++c) {
     if (!assembler_.Owns(firstContributor_[numActors + c])) continue;
@@ -482,7 +485,7 @@ bool StageSolver::SecondOrderCorrection(DynamicArray<Actor*> const& actors,
     Span<real const> const corrected(correctedStep_.data(), correctedStep_.size());
     for (Actor* actor : actors) actor->ApplyIncrementFromSaved(corrected, 1);
     real const correctedEnergy = TotalEnergy(actors, constraints, h);
-    if (SufficientDecrease(energy, correctedEnergy, 1, slope)) {
+    if (SufficientDecrease(energy, correctedEnergy, 1, slope, Resolution())) {
       trialEnergy = correctedEnergy;
       ++stats.secondOrderCorrections;
       newtonStep_ = delta_;  // the last δc
@@ -494,6 +497,10 @@ bool StageSolver::SecondOrderCorrection(DynamicArray<Actor*> const& actors,
   }
   delta_ = newtonStep_;
   return false;
+}
+
+real StageSolver::Resolution() const {
+  return kRoundOffUlps * std::numeric_limits<real>::epsilon() * energyScale_;
 }
 
 real StageSolver::ScaledStepNorm(real h) const {
@@ -685,15 +692,16 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
     // radius, Actor::WriteDofLengthScales), or at a stall on the round-off
     // floor of Eᵢ: the energy decrease the full step predicts, −∇E·δ (the
     // Newton decrement), and the change the last accepted step made are both
-    // below the resolution of Eᵢ (kRoundOffUlps ulps of Σ|terms|), so no line
-    // search can tell the iterate from the minimum. Such a step is taken
-    // whole. Larger steps get a backtracking line search on Eᵢ (Armijo,
-    // c = 1e-4, with a round-off allowance of 1e-12 |E|).
+    // below the resolution of Eᵢ (kRoundOffUlps ulps of Σ|terms| and the
+    // actors' round-off scales), so no line search can tell the iterate from
+    // the minimum. Such a step is taken whole. Larger steps get a
+    // backtracking line search on Eᵢ (Armijo, c = 1e-4, with a round-off
+    // allowance of 1e-12 |E| plus the resolution).
     // A step from a looser solve (the inexact-Newton forcing term, or
     // truncated at the PCG cap) that looks converged is first resumed from
     // where it stopped, at the full tolerance; still truncated when the
     // resumptions stop gaining, it is taken but does not end Newton.
-    real const resolution = kRoundOffUlps * std::numeric_limits<real>::epsilon() * energyScale_;
+    real const resolution = Resolution();
     real stepNorm = 0, slope = 0;
     bool stepConverged = false, stalled = false;
     auto const judge = [&] {
@@ -745,7 +753,7 @@ bool StageSolver::Solve(int stageIndex, StageCoefficients const& stage,
       for (int k = 0; k <= newton.maxLineSearchSteps; ++k, alpha *= 0.5) {
         for (Actor* actor : actors) actor->ApplyIncrementFromSaved(delta, alpha);
         trialEnergy = TotalEnergy(actors, constraints, h);
-        if (SufficientDecrease(energy, trialEnergy, alpha, slope)) {
+        if (SufficientDecrease(energy, trialEnergy, alpha, slope, Resolution())) {
           accepted = true;
           break;
         }

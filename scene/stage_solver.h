@@ -112,6 +112,8 @@ class StageSolver {
   /// maxⱼ ℓⱼ |δⱼ| / h: the step as a velocity of material points (ℓⱼ the
   /// DoF length scales of the actors).
   real ScaledStepNorm(real h) const;
+  /// The round-off resolution of Eᵢ: kRoundOffUlps ulps of energyScale_.
+  real Resolution() const;
   bool SecondOrderCorrection(DynamicArray<Actor*> const& actors,
                              DynamicArray<Constraint*> const& constraints, real h, real energy,
                              real slope, SceneStats& stats, real& trialEnergy);
@@ -144,7 +146,7 @@ class StageSolver {
   ReusedFactorCg::StepTolerance reuseStepTolerance_;  ///< over orderedLengthScales_, per stage
   int reuseFailuresInRow_ = 0;  ///< reused-factor solves that did not converge, this stage
   std::int64_t hessianNonzeros_ = 0;  ///< of the whole pattern (SceneStats::hessianNonzeros)
-  real energyScale_ = 0;     ///< Σ|terms| of Eᵢ at the last TotalEnergy
+  real energyScale_ = 0;     ///< Σ(|terms| + round-off scales) of Eᵢ at the last TotalEnergy
   FaultInjection fault_;
   // across MPI ranks (IsDistributed)
   Communicator communicator_;

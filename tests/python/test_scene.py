@@ -279,6 +279,16 @@ def test_articulated_pendulum_mass_matrix_and_motion():
         dense_scene.step(1e-3)
     assert not dense.is_solved_on_tree()
     assert dense.get_joint_positions()[0] == pytest.approx(theta, abs=1e-12)
+    # from the constant-velocity prediction instead of the extrapolated
+    # velocity: the same motion to the Newton tolerance (1e-6 m/s x 1 ms per
+    # step, 100 steps)
+    plain_scene = mochi.Scene.create()
+    params = mochi.ArticulatedActorParams(links=[link], extrapolate_first_iterate=False)
+    assert params.extrapolate_first_iterate is False
+    plain = plain_scene.create_articulated_actor(params)
+    for _ in range(100):
+        plain_scene.step(1e-3)
+    assert plain.get_joint_positions()[0] == pytest.approx(theta, abs=1e-7)
 
 
 def test_an_articulated_link_holds_a_rigid_body():

@@ -49,7 +49,10 @@ void DefineArticulatedActor(py::module_& m) {
       "A tree of links (Scene.create_articulated_actor); link 0 is the root. `links` reads as a "
       "list of copies: assign a whole list.")
       .Field("links", &P::links, "list of ArticulatedLinkParams, at least one")
-      .Field("block_solve", &P::blockSolve, "ArticulatedBlockSolve, default Tree");
+      .Field("block_solve", &P::blockSolve, "ArticulatedBlockSolve, default Tree")
+      .Field("extrapolate_first_iterate", &P::extrapolateFirstIterate,
+             "Newton's first iterate at the last step's acceleration (default True) or the "
+             "constant-velocity prediction (False); the same converged state");
 
   using Ref = ArticulatedActorRef;
   using A = ArticulatedActor;
