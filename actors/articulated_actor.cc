@@ -244,20 +244,20 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
                     ") from the initialPosition and offsets of its joint and its ancestors' joints");
       return nullptr;
     }
+  // (the spatial velocity (ω; v at the origin) summed down the tree: O(N))
   s.links.resize(numLinks);
+  DynamicArray<Vector6> spatialVelocity(numLinks);
   for (int i = 0; i < numLinks; ++i) {
+    Link const& l = a.links_[i];
+    Vector6& velocity = spatialVelocity[i];
+    velocity = l.parent >= 0 ? spatialVelocity[l.parent] : Vector6::Zero();
+    for (int k = l.dofStart; k < l.dofStart + l.numDofs; ++k)
+      velocity += a.kinematics_.motion.col(k) * s.jointVelocity[k];
     internal::RigidBodyMotion& m = s.links[i];
     m.position = a.kinematics_.com[i];
     m.rotation = a.kinematics_.linkRotation[i];
-    Real3 omega = Real3::Zero(), velocity = Real3::Zero();
-    for (int j = i; j >= 0; j = a.links_[j].parent)
-      for (int k = a.links_[j].dofStart; k < a.links_[j].dofStart + a.links_[j].numDofs; ++k) {
-        Vector6 const motion = a.kinematics_.motion.col(k);
-        omega += motion.head<3>() * s.jointVelocity[k];
-        velocity += (motion.tail<3>() + motion.head<3>().cross(m.position)) * s.jointVelocity[k];
-      }
-    m.linearVelocity = velocity;
-    m.angularVelocity = omega;
+    m.angularVelocity = velocity.head<3>();
+    m.linearVelocity = velocity.tail<3>() + velocity.head<3>().cross(m.position);
   }
   return actor;
 }
