@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Eigenvalues>
 
@@ -43,6 +44,8 @@ ArticulatedTreeSolver::Matrix6 ArticulatedTreeSolver::ShiftToParent(Real3 const&
 void ArticulatedTreeSolver::Reserve(int numJoints) {
   std::size_t const n = static_cast<std::size_t>(numJoints);
   articulated_.resize(n);
+  childStamp_.assign(n, 0);
+  stamp_ = 0;
   metric_.resize(n);
   right_.resize(n);
   bias_.resize(n);
@@ -59,7 +62,12 @@ bool ArticulatedTreeSolver::Factorize(System const& system, bool makePositiveDef
   modifiedPivots_ = 0;
   resumeJoint_ = -1;
   for (Matrix6& modification : modifications) modification.setZero();
-  for (int i = 0; i < numJoints; ++i) articulated_[i] = system.own[i];
+  // a new stamp: no joint has had a child's term yet
+  if (stamp_ == std::numeric_limits<int>::max()) {
+    std::fill(childStamp_.begin(), childStamp_.end(), 0);
+    stamp_ = 0;
+  }
+  ++stamp_;
   if (makePositiveDefinite) PrepareModification(system);
   return EliminateFrom(system, numJoints - 1, makePositiveDefinite, modifications, failedJoint);
 }
@@ -105,7 +113,8 @@ bool ArticulatedTreeSolver::EliminateFrom(System const& system, int first, bool 
   // leaves up: each joint's pivot, then its contribution to its parent
   for (int i = first; i >= 0; --i) {
     int const parent = system.parent[i];
-    Matrix6 passed = articulated_[i];  // Yᴬ_i − Z_i, what the parent adds
+    Matrix6 passed = system.own[i];  // Yᴬ_i, then Yᴬ_i − Z_i: what the parent adds
+    if (childStamp_[i] == stamp_) passed += articulated_[i];
     bool eliminated = true;
     switch (system.numDofs[i]) {
       case 0: break;
@@ -117,13 +126,19 @@ bool ArticulatedTreeSolver::EliminateFrom(System const& system, int first, bool 
         break;
     }
     if (!eliminated) {
-      // articulated_[i] and what the joints after it passed up are intact:
-      // ContinueModified can go on from here
+      // what the joints after i passed up is intact: ContinueModified can go
+      // on from here
       if (!makePositiveDefinite) resumeJoint_ = i;
       if (failedJoint != nullptr) *failedJoint = i;
       return false;
     }
-    if (parent >= 0) articulated_[parent] += ShiftToParent(system.shift[i], passed);
+    if (parent < 0) continue;
+    if (childStamp_[parent] == stamp_) {
+      articulated_[parent] += ShiftToParent(system.shift[i], passed);
+    } else {
+      articulated_[parent] = ShiftToParent(system.shift[i], passed);
+      childStamp_[parent] = stamp_;
+    }
   }
   return true;
 }
@@ -137,7 +152,7 @@ bool ArticulatedTreeSolver::Eliminate(System const& system, int i, bool makePosi
   int const m = system.numDofs[i], parent = system.parent[i];
   Cols<M> const s = system.motion.middleCols(system.dofStart[i], m);
   Cols<M> ys;
-  ys.noalias() = articulated_[i] * s;
+  ys.noalias() = passed * s;
   right_[i] = ys;
   Square<M> pivot = system.jointExtras[i].topLeftCorner(m, m);
   pivot.noalias() += s.transpose() * ys;

@@ -121,6 +121,7 @@ class ArticulatedTreeSolver {
   /// Joint i's pivot, its factor into pivotFactor_ and Z_i out of `passed`, with
   /// kernels of M DoFs (1, 3, 6; Eigen::Dynamic for the others). False
   /// where the pivot is not positive definite (and not modified).
+  /// `passed` holds Yᴬ_i on entry.
   template <int M>
   bool Eliminate(System const& system, int i, bool makePositiveDefinite, Span<Matrix6> modifications, Matrix6& passed);
   /// The modified pivot of joint i (Factorize's `makePositiveDefinite`).
@@ -133,7 +134,12 @@ class ArticulatedTreeSolver {
   void SolveUp(System const& system, int i, Span<real const> b, Span<real> x);
   template <int M>
   void SolveDown(System const& system, int i, Span<real> x);
-  DynamicArray<Matrix6> articulated_;  ///< Yᴬ_i
+  /// Σ over i's children c of X_cᵀ(Yᴬ_c − Z_c)X_c where childStamp_[i] ==
+  /// stamp_ (none passed yet otherwise; Yᴬ_i = own_i + it): no pass copies
+  /// own into it before each factorization
+  DynamicArray<Matrix6> articulated_;
+  DynamicArray<int> childStamp_;
+  int stamp_ = 0;  ///< the factorization's stamp
   DynamicArray<Matrix6> metric_;       ///< the composite of System::metric over i's subtree
   DynamicArray<Columns> right_;        ///< Yᴬ_i S_i
   DynamicArray<Vector6> bias_;         ///< Σ over i's strict descendants of q_k = Yᴬ_k S_k Dₖ⁻¹ b̃_k
