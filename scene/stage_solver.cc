@@ -100,6 +100,11 @@ bool StageSolver::Analyze(DynamicArray<Actor*> const& actors,
   ownBlockRhs_.setZero(ownBlockActors_.empty() ? 0 : numDofs);
   ownBlocksCoupled_ = false;
   for (Actor* actor : ownBlockActors_) ownBlocksCoupled_ = ownBlocksCoupled_ || actor->HasOwnBlockCoupling();
+  // every DoF in an own block, none coupled: the scene's matrix is the
+  // identity once the blocks are factorized (constraints within one joint
+  // are read into its block), and the linear solver is not called
+  identityMatrix_ = !IsDistributed() && !ownBlockActors_.empty() && ownBlockActors_.size() == actors.size() &&
+                    !ownBlocksCoupled_;
   schurRhs_.setZero(ownBlocksCoupled_ ? numDofs : 0);
   constraintWorkspace_.Reserve(maxDimension, maxDofs);
   maxConstraintDimension_ = maxDimension;
@@ -223,6 +228,10 @@ void StageSolver::GatherGradient() {
 LinearSolveResult StageSolver::FactorizeMatrix(SceneStats& stats) {
   auto const start = Clock::now();
   LinearSolveResult result;
+  if (identityMatrix_) {  // the own blocks' factorizations are the Newton matrix's
+    ++stats.factorizations;
+    return result;
+  }
   SparseSymmetricMatrix const& matrix = assembler_.GetMatrix();
   // across ranks a non-finite entry is refused by every rank at once: a rank
   // alone refusing it (the solver's own check) would leave the others
@@ -335,6 +344,13 @@ bool StageSolver::EnsureSolverReady(DynamicArray<Actor*> const& actors, SceneSta
 
 LinearSolveResult StageSolver::SolveNewtonSystem(SceneStats& stats, bool resume) {
   auto const start = Clock::now();
+  if (identityMatrix_) {
+    delta_ = -gradient_;
+    SolveOwnBlocks();
+    stats.solveSeconds += SecondsSince(start);
+    ++stats.linearSolves;
+    return LinearSolveResult{};
+  }
   OrderNewtonRhs();
   Span<real const> const rhs(orderedRhs_.data(), orderedRhs_.size());
   Span<real> const solution(orderedSolution_.data(), orderedSolution_.size());
@@ -375,7 +391,7 @@ int StageSolver::ReuseIterationCap() const {
 
 bool StageSolver::SolveWithReusedFactor(NewtonParams const& newton, real tolerance, bool resume,
                                         SceneStats& stats) {
-  if (!newton.reuseFactorization || solver_->IsIterative() || !solver_->IsFactorized() ||
+  if (!newton.reuseFactorization || identityMatrix_ || solver_->IsIterative() || !solver_->IsFactorized() ||
       reuseFailuresInRow_ >= kMaxReuseFailures)
     return false;
   int const cap = ReuseIterationCap();

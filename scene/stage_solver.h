@@ -136,6 +136,9 @@ class StageSolver {
   /// some own block is coupled with other DoFs (Actor::HasOwnBlockCoupling):
   /// the right-hand side of the Schur complement (natural order) in schurRhs_
   bool ownBlocksCoupled_ = false;
+  /// every actor solves its own block, uncoupled: the scene's matrix is the
+  /// identity, its factorization and solve skipped (δ = −∇E, then the blocks')
+  bool identityMatrix_ = false;
   VectorX schurRhs_;
   VectorX gradient_, delta_, orderedRhs_, orderedSolution_;
   VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction
