@@ -248,11 +248,9 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   s.links.resize(numLinks);
   DynamicArray<Vector6> spatialVelocity(numLinks);
   for (int i = 0; i < numLinks; ++i) {
-    Link const& l = a.links_[i];
-    Vector6& velocity = spatialVelocity[i];
-    velocity = l.parent >= 0 ? spatialVelocity[l.parent] : Vector6::Zero();
-    for (int k = l.dofStart; k < l.dofStart + l.numDofs; ++k)
-      velocity += a.kinematics_.motion.col(k) * s.jointVelocity[k];
+    int const parent = a.links_[i].parent;
+    Vector6 const& velocity = spatialVelocity[i] =
+        a.LinkVelocity(i, parent >= 0 ? spatialVelocity[parent] : Vector6::Zero());
     internal::RigidBodyMotion& m = s.links[i];
     m.position = a.kinematics_.com[i];
     m.rotation = a.kinematics_.linkRotation[i];
@@ -504,6 +502,14 @@ MatrixX ArticulatedActor::ComputeMassMatrix() const {
   return mass;
 }
 
+Vector6 ArticulatedActor::LinkVelocity(int i, Vector6 const& parentVelocity) const {
+  Link const& l = links_[i];
+  Vector6 velocity = parentVelocity;
+  for (int k = l.dofStart; k < l.dofStart + l.numDofs; ++k)
+    velocity += kinematics_.motion.col(k) * state_.jointVelocity[k];
+  return velocity;
+}
+
 VectorX ArticulatedActor::ComputeBiasForces(Real3 const& gravity) const {
   // RNEA in world coordinates at the origin, q̈ = 0: V_i = V_p + S q̇,
   // A_i = A_p + Ṡ q̇ with Ṡ = V ×ₘ S (V the velocity of the frame the axis
@@ -530,9 +536,7 @@ VectorX ArticulatedActor::ComputeBiasForces(Real3 const& gravity) const {
     Link const& l = links_[i];
     Vector6 const parentVelocity = l.parent < 0 ? Vector6::Zero() : velocity[l.parent];
     Vector6 const parentAcceleration = l.parent < 0 ? baseAcceleration : acceleration[l.parent];
-    Vector6 v = parentVelocity;
-    for (int k = l.dofStart; k < l.dofStart + l.numDofs; ++k)
-      v += kinematics_.motion.col(k) * state_.jointVelocity[k];
+    Vector6 const v = LinkVelocity(i, parentVelocity);
     Vector6 a = parentAcceleration;
     for (int k = l.dofStart; k < l.dofStart + l.numDofs; ++k) {
       bool const fixedInChild = l.joint == JointType::Spherical ||

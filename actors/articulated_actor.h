@@ -267,6 +267,10 @@ class ArticulatedActor final : public Actor {
   /// since the last call (the line search's accepted energy and the next
   /// assembly share one pass)
   void UpdateKinematics(bool withMotion = true) const;
+  /// Link i's spatial velocity (ω; v at the origin): its parent's
+  /// (`parentVelocity`, zero for a root) plus its joint's DoFs' world motion
+  /// (kinematics_, with motion) times state_.jointVelocity.
+  Eigen::Matrix<real, 6, 1> LinkVelocity(int i, Eigen::Matrix<real, 6, 1> const& parentVelocity) const;
   /// One link's pose from its parent's (the world's for the root) and its
   /// joint's state; its DoFs' world motion (ω; v_O) into `motion` (one
   /// column per DoF of the joint).
