@@ -303,7 +303,7 @@ std::array<std::string_view, kNumColumns> const kColumnNames{
     "end_time", "newton_iterations", "linear_iterations", "linear_solves", "truncated_solves", "factorizations", "reused_solves", "near_rigid_capped", "pattern_builds",
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
     "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
-    "steady_per_step_s", "total_s", "ranks", "owned_dofs", "peak_rss_mb", "scene_rss_mb", "error", "reference", "joint_drift", "energy_gain", "status",
+    "steady_per_step_s", "total_s", "ranks", "owned_dofs", "peak_rss_mb", "scene_rss_mb", "error", "reference", "joint_drift", "energy_gain", "state_hash", "status",
     "reason"};
 // clang-format on
 
@@ -311,7 +311,7 @@ bool IsNumericColumn(int column) {
   static constexpr std::array kText{kSuite,      kStudy,     kFamily, kSize,
                                     kMaterial,   kMethod,    kSolver, kPreconditioner,
                                     kIntegrator, kReference, kStatus, kReason,
-                                    kConstraintHessian};
+                                    kConstraintHessian, kStateHash};
   return std::find(kText.begin(), kText.end(), column) == kText.end();
 }
 
@@ -546,6 +546,69 @@ double ResidentMb() {
   return read == 2 ? resident * (sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0)) : -1;
 }
 
+/// FNV-1a over the bits of every actor's dynamic state (poses, velocities,
+/// joint coordinates, twists), in creation order: equal hashes mean equal
+/// final states bit for bit, so a change that must not alter behaviour can be
+/// checked run by run (the `state_hash` column).
+class StateHash {
+ public:
+  void Add(real value) {
+    unsigned char bytes[sizeof value];
+    std::memcpy(bytes, &value, sizeof value);
+    for (unsigned char byte : bytes) hash_ = (hash_ ^ byte) * 0x100000001b3ull;
+  }
+  void Add(Real3 const& v) {
+    for (int i = 0; i < 3; ++i) Add(v[i]);
+  }
+  std::string Hex() const {
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash_));
+    return text;
+  }
+
+ private:
+  std::uint64_t hash_ = 0xcbf29ce484222325ull;
+};
+
+std::string HashState(Scene const& scene) {
+  StateHash hash;
+  scene.ForEachActor([&](Actor const& actor) {
+    switch (actor.GetType()) {
+      case ActorType::Rigid: {
+        auto const& rigid = static_cast<RigidActor const&>(actor);
+        hash.Add(rigid.GetPosition());
+        for (int i = 0; i < 4; ++i) hash.Add(rigid.GetRotation().coeffs()[i]);
+        hash.Add(rigid.GetLinearVelocity());
+        hash.Add(rigid.GetAngularVelocity());
+        break;
+      }
+      case ActorType::Deformable:
+      case ActorType::Rod: {
+        auto const& nodal = static_cast<NodalActor const&>(actor);
+        for (int i = 0; i < nodal.GetNumNodes(); ++i) {
+          hash.Add(nodal.GetNodePosition(i));
+          hash.Add(nodal.GetNodeVelocity(i));
+        }
+        if (actor.GetType() == ActorType::Rod) {
+          auto const& rod = static_cast<RodActor const&>(actor);
+          for (int i = 0; i < rod.GetNumNodes(); ++i) {
+            hash.Add(rod.GetTwist(i));
+            hash.Add(rod.GetTwistVelocity(i));
+          }
+        }
+        break;
+      }
+      case ActorType::Articulated: {
+        auto const& articulated = static_cast<ArticulatedActor const&>(actor);
+        for (real q : articulated.GetJointPositions()) hash.Add(q);
+        for (real v : articulated.GetJointVelocities()) hash.Add(v);
+        break;
+      }
+    }
+  });
+  return hash.Hex();
+}
+
 /// Set by a launcher: OpenMPI's, MPICH's/hydra's (PMI) and PMIx's rank
 char const* LauncherRank() {
   for (char const* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
@@ -638,6 +701,7 @@ Row ExecuteRun(RunSpec const& spec) {
   FillMeasured(row, totals, done, fs.scene->GetStats());
   row[kOwnedDofs] = Cell(fs.scene->GetStats().ownedDofs);
   watch.Fill(row);
+  row[kStateHash] = HashState(*fs.scene);
   if (!ok) return finish("failed", Reason(error, "step " + std::to_string(done + 1)));
   HandleReference(spec, fs, row);
   std::string const status = row[kStatus].empty() ? "ok" : row[kStatus];

@@ -16,7 +16,7 @@ COLUMNS = (
     "newton_tol constraint_hessian near_rigid integrator dt steps end_time newton_iterations linear_iterations "
     "linear_solves truncated_solves factorizations reused_solves near_rigid_capped pattern_builds symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops analysis_s "
     "assembly_s factorization_s solve_s line_search_s other_s wall_per_step_s steady_per_step_s total_s "
-    "ranks owned_dofs peak_rss_mb scene_rss_mb error reference joint_drift energy_gain status reason"
+    "ranks owned_dofs peak_rss_mb scene_rss_mb error reference joint_drift energy_gain state_hash status reason"
 ).split()
 STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference", "long_run")
 # every family of the harness (perf/harness/families.cc) has scaling runs in the tiny suite
