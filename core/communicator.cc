@@ -1,21 +1,16 @@
 #include <superdex/core/communicator.h>
 
 #include <superdex/core/mpi.h>
-#include <superdex/linsolve/petsc_runtime.h>
+#include <superdex/core/mpi_runtime.h>
 
 namespace superdex {
 
 namespace {
-bool MpiRunning() {
-  int initialized = 0, finalized = 0;
-  MPI_Initialized(&initialized);
-  MPI_Finalized(&finalized);
-  return initialized && !finalized;
-}
+bool MpiRunning() { return internal::IsMpiRunning(); }
 }  // namespace
 
 Communicator Communicator::World(Error& error) {
-  if (!MpiRunning() && !internal::EnsurePetscInitialized(error)) return Communicator();
+  if (!internal::EnsureMpiInitialized(error)) return Communicator();
   return ToCommunicator(MPI_COMM_WORLD);
 }
 
