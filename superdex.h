@@ -35,6 +35,6 @@
 
 #include <superdex/linsolve/linear_solver.h>
 
-#include <superdex/scene/integrator.h>
+#include <superdex/stage/integrator.h>
 #include <superdex/scene/scene.h>
 #include <superdex/scene/scene_params.h>

@@ -18,4 +18,12 @@ void Actor::WriteDofLengthScales(Span<real> scales) const {
   std::fill(scales.begin() + dofOffset_, scales.begin() + dofOffset_ + numDofs_, real(1));
 }
 
+void Actor::AddEnergy(internal::HessianAssembler const& assembler, int firstContributor,
+                      internal::EnergySum& sum) const {
+  // (the owned flags from this actor's first contributor on)
+  real const energy =
+      Energy(assembler.GetOwnedContributors(firstContributor, assembler.GetNumContributors() - firstContributor));
+  sum.Add(energy, EnergyRoundOffScale());
+}
+
 }  // namespace superdex

@@ -594,7 +594,7 @@ void ArticulatedActor::WriteDofInverseMasses(Span<real> inverseMasses) const {
 }
 
 void ArticulatedActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
-  if (SolvesOwnBlock()) {
+  if (IsActive()) {
     // one block per joint with DoFs (its diagonal block)
     for (Link const& l : links_) {
       if (l.numDofs == 0) continue;
@@ -612,10 +612,10 @@ void ArticulatedActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& do
   dofLists.push_back(std::move(dofs));
 }
 
-void ArticulatedActor::BeginStage(internal::StageCoefficients const& requested, Real3 const& gravity) {
-  stage_ = (requested.usesHistory && !state_.hasHistory)
-               ? internal::MakeStage(IntegratorType::BackwardEuler, requested.duration, false)
-               : requested;
+void ArticulatedActor::BeginStage(internal::StageContext const& context) {
+  internal::StageCoefficients const& requested = context.coefficients;
+  Real3 const& gravity = context.gravity;
+  stage_ = requested.ForBody(state_.hasHistory);
   gravity_ = gravity;
   for (int i = 0; i < GetNumLinks(); ++i)
     inertia_[i].Begin(stage_, links_[i].mass, links_[i].inertia, state_.links[i]);
@@ -643,8 +643,9 @@ void ArticulatedActor::BeginStage(internal::StageCoefficients const& requested, 
     firstIterate_ += betaH * ((1 - stage_.aVelocity + r) * state_.jointVelocity -
                               (stage_.bVelocity + r) * state_.previousJointVelocity);
   }
-  ApplyLocalIncrement(firstIterate_.data(), 1);
 }
+
+void ArticulatedActor::MoveToFirstIterate() { ApplyLocalIncrement(firstIterate_.data(), 1); }
 
 real ArticulatedActor::Energy(internal::OwnedContributors owned) const {
   energyRoundOffScale_ = 0;
@@ -715,7 +716,7 @@ void ArticulatedActor::ComputeGradientAndTreeTerms(internal::HessianAssembler co
     }
   });
   // the composites Y only for the dense block (the tree solver forms its own)
-  bool const dense = !SolvesOwnBlock();
+  bool const dense = !IsActive();
   if (dense)
     for (int i = 0; i < numLinks; ++i) composite_[i] = own_[i];
   for (int i = numLinks - 1; i > 0; --i) {
@@ -819,12 +820,13 @@ void ArticulatedActor::ComputeGradientAndTreeTerms(internal::HessianAssembler co
       for (int a = 0; a < links_[i].numDofs; ++a) jointBlocks_[i](a, a) += foldedDiagonal_[links_[i].dofStart + a];
 }
 
-void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
-                                             int firstContributor, bool projectHessian) const {
+void ArticulatedActor::AddGradientAndHessian(internal::HessianAssembler& assembler, int firstContributor,
+                                         internal::AssemblyOptions const& options) const {
+  bool const projectHessian = options.projectHessian;
   if (!assembler.Evaluates(firstContributor)) return;
   ComputeGradientAndTreeTerms(assembler, projectHessian);
   int const numLinks = GetNumLinks();
-  if (SolvesOwnBlock()) {
+  if (IsActive()) {
     // one contributor per joint: its gradient and diagonal block; the rest of
     // the Hessian stays in own_ for FactorizeOwnBlock
     int contributor = firstContributor;
@@ -888,35 +890,33 @@ void ArticulatedActor::SizeDenseBlock() const {
   modifiedOrder_.assign(numDofs_, 0);
 }
 
-void ArticulatedActor::ClearFoldedConstraints() {
+void ArticulatedActor::ClearFolded() {
   folded_.clear();
   coupledLinks_.clear();
   couplingDofs_.clear();
   numCoupled_ = 0;
 }
 
-bool ArticulatedActor::FoldConstraint(Constraint* constraint) {
-  int const slot = constraint->FoldableLinkSlot();
-  if (!SolvesOwnBlock() || slot < 0 || constraint->GetActor(slot) != this) return false;
+bool ArticulatedActor::Fold(internal::LinkTerm& term) {
+  if (!IsActive() || term.GetLinkOwner() != &GetStageDofs()) return false;
   if (foldedDiagonal_.size() != numDofs_) foldedDiagonal_.setZero(numDofs_);
   FoldedConstraint folded;
-  folded.constraint = constraint;
-  folded.linkSlot = slot;
-  if (constraint->GetNumActors() == 2) {
+  folded.term = &term;
+  if (!term.GetOtherDofs().empty()) {
     // the other body's DoFs join the coupling block (in order of first use)
-    for (int dof : constraint->GetDofIndicesForActor(1 - slot)) {
+    for (int dof : term.GetOtherDofs()) {
       auto const found = std::find(couplingDofs_.begin(), couplingDofs_.end(), dof);
       folded.couplingIndex.push_back(static_cast<int>(found - couplingDofs_.begin()));
       if (found == couplingDofs_.end()) couplingDofs_.push_back(dof);
     }
-    int const link = constraint->links_[slot];
+    int const link = term.GetLinkPath().link;
     auto const coupled = std::find_if(coupledLinks_.begin(), coupledLinks_.end(),
                                       [&](CoupledLink const& c) { return c.link == link; });
     folded.coupledLink = static_cast<int>(coupled - coupledLinks_.begin());
     if (coupled == coupledLinks_.end()) {
       CoupledLink added;
       added.link = link;
-      added.dofs = constraint->paths_[slot].dofs;
+      added.dofs = term.GetLinkPath().dofs;
       added.jacobian.setZero(6, static_cast<Eigen::Index>(added.dofs.size()));
       coupledLinks_.push_back(std::move(added));
     }
@@ -932,38 +932,37 @@ bool ArticulatedActor::FoldConstraint(Constraint* constraint) {
     pivotChanges_.assign(links_.size(), Matrix6::Zero());
   }
   folded_.push_back(std::move(folded));
-  foldedMaxDimension_ = std::max(foldedMaxDimension_, constraint->GetDimension());
-  foldedMaxDofs_ = std::max(foldedMaxDofs_, constraint->GetNumDofs());
+  foldedMaxDimension_ = std::max(foldedMaxDimension_, term.GetDimension());
+  foldedMaxDofs_ = std::max(foldedMaxDofs_, term.GetNumDofs());
   foldedWorkspace_.Reserve(foldedMaxDimension_, foldedMaxDofs_);
   return true;
 }
 
 void ArticulatedActor::AddFoldedConstraint(FoldedConstraint const& folded, bool projectHessian) const {
-  internal::ConstraintWorkspace::FoldedBlock hessian;
+  internal::TermWorkspace::FoldedBlock hessian;
   Vector6 wrench;
   bool exactCurvature = false;
-  internal::ConstraintWorkspace& ws = foldedWorkspace_;
-  Constraint const& constraint = *folded.constraint;
-  int const slot = folded.linkSlot;
-  if (!constraint.AddFoldedTerms(stage_.duration, foldedSceneHessian_, projectHessian, slot, ws, hessian, wrench,
-                                 exactCurvature))
-    return;
-  // the gradient Jᵀ f (ws.r, over the constraint's DoF list) on the path's
-  // DoFs and the other body's
-  Span<int const> const dofs = constraint.GetDofIndicesForActor(slot);
-  DynamicArray<int> const& pathColumns = constraint.slotColumns_[slot];
+  internal::TermWorkspace& ws = foldedWorkspace_;
+  internal::LinkTerm const& term = *folded.term;
+  if (!term.AddLinkTerms(projectHessian, ws, hessian, wrench, exactCurvature)) return;
+  // the gradient Jᵀ f (ws.r, over the term's DoF list) on the path's DoFs
+  // and the other body's
+  Span<int const> const dofs = term.GetPathDofs();
+  Span<int const> const pathColumns = term.GetPathColumns();
   int const numPath = static_cast<int>(dofs.size());
   int const numOther = static_cast<int>(folded.couplingIndex.size());
   for (int j = 0; j < numPath; ++j) gradient_[dofs[j] - dofOffset_] += ws.r[pathColumns[j]];
-  int const link = constraint.links_[slot];
+  internal::LinkPath const& path = term.GetLinkPath();
+  int const link = path.link;
   if (numOther > 0) {
     // the coupling: H_lo into the link's W (and the link frame's Jacobian
     // at this iterate, for the complement), H_oo over the other DoFs
     CoupledLink& coupled = coupledLinks_[folded.coupledLink];
-    coupled.jacobian = constraint.paths_[slot].jacobian;
+    coupled.jacobian = path.jacobian;
+    Span<int const> const otherColumns = term.GetOtherColumns();
     for (int j = 0; j < numOther; ++j) {
       int const cj = folded.couplingIndex[j];
-      couplingGradient_[cj] += ws.r[constraint.slotColumns_[1 - slot][j]];
+      couplingGradient_[cj] += ws.r[otherColumns[j]];
       coupled.coupling.col(cj) += hessian.block<6, 1>(0, 6 + j);
       for (int i = 0; i < numOther; ++i) couplingHessian_(folded.couplingIndex[i], cj) += hessian(6 + i, 6 + j);
     }
@@ -990,7 +989,6 @@ void ArticulatedActor::AddFoldedConstraint(FoldedConstraint const& folded, bool 
     // stalled; a single-body constraint converges as well without it, and
     // its diagonal slowed the last iterations to linear convergence
     if (numOther == 0) return;
-    internal::LinkPath const& path = constraint.paths_[slot];
     for (int j = 0; j < numPath; ++j) {
       real squares = 0;
       for (int i = 0; i < numPath; ++i) {
@@ -1016,7 +1014,7 @@ internal::ArticulatedTreeSolver::System ArticulatedActor::TreeSystem() const {
   return {linkParent_, linkDofStart_, linkNumDofs_, localMotion_, own_, jointBlocks_, shift_, linkMetric_};
 }
 
-bool ArticulatedActor::FactorizeOwnBlock(internal::HessianAssembler& assembler, int firstContributor,
+bool ArticulatedActor::Factorize(internal::HessianAssembler& assembler, int firstContributor,
                                          bool projectHessian, bool separateCouplings, std::string& reason) {
   // the joints' assembled diagonal blocks (the joint constraints' terms
   // included) replace the actor's own; the scene's matrix gets the identity
@@ -1158,7 +1156,7 @@ void ArticulatedActor::SolveTree() {
                     Span<real>(treeSolution_.data(), treeSolution_.size()));
 }
 
-void ArticulatedActor::EliminateOwnBlockFromRhs(Span<real> rhs) {
+void ArticulatedActor::EliminateFromRhs(Span<real> rhs) {
   if (couplingDofs_.empty()) return;
   // rhs_o −= C A⁻¹ rhs_t = Σ_ℓ W_ℓᵀ B_ℓ y, y = A⁻¹ rhs_t
   for (int i = 0; i < numDofs_; ++i) treeRhs_[i] = rhs[dofOffset_ + i];
@@ -1170,7 +1168,7 @@ void ArticulatedActor::EliminateOwnBlockFromRhs(Span<real> rhs) {
   }
 }
 
-void ArticulatedActor::SolveOwnBlock(Span<real const> rhs, Span<real> delta) {
+void ArticulatedActor::Solve(Span<real const> rhs, Span<real> delta) {
   Span<real> const own = delta.subspan(dofOffset_, numDofs_);
   if (couplingDofs_.empty()) {
     treeSolver_.Solve(TreeSystem(), rhs.subspan(dofOffset_, numDofs_), own);

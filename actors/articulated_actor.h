@@ -1,5 +1,5 @@
 // An articulated actor: a tree of rigid links in reduced coordinates
-// (design.md §4.4). Link 0 is the root; every link names a parent earlier in
+// (docs/design.md §4.4). Link 0 is the root; every link names a parent earlier in
 // the list (the root's parent is the world) and the joint between them.
 //
 // Kinematics. Link i's world transform is
@@ -59,13 +59,13 @@
 #include <Eigen/Cholesky>
 
 #include <superdex/actors/articulated_tree_solver.h>
-#include <superdex/actors/link_path.h>
+#include <superdex/stage/link_path.h>
 
 #include <superdex/actors/actor.h>
 #include <superdex/actors/rigid_inertia.h>
-#include <superdex/constraints/constraint.h>
 #include <superdex/core/error.h>
-#include <superdex/scene/integrator.h>
+#include <superdex/stage/integrator.h>
+#include <superdex/stage/own_block_solve.h>
 
 namespace superdex {
 
@@ -114,7 +114,7 @@ struct ArticulatedActorParams {
   bool extrapolateFirstIterate = true;
 };
 
-class ArticulatedActor final : public Actor {
+class ArticulatedActor final : public Actor, private internal::OwnBlockSolve {
  public:
   /// Validates everything (a tree: each parent an earlier link, only the
   /// root on the world; unit quaternions, non-zero axes, positive mass and
@@ -134,7 +134,7 @@ class ArticulatedActor final : public Actor {
   /// True while the stage solver solves the actor by the tree recursion
   /// (Tree requested, one process, no constraint coupling two joints but
   /// through a link: docs/articulated.md, "Links in constraints").
-  bool IsSolvedOnTree() const { return SolvesOwnBlock(); }
+  bool IsSolvedOnTree() const { return IsActive(); }
   /// Constraints between a link and another body that the tree couples to
   /// the scene's matrix by a Schur complement (IsSolvedOnTree), and the DoFs
   /// of those other bodies (the dense block the complement adds), as of the
@@ -149,7 +149,7 @@ class ArticulatedActor final : public Actor {
   long GetNumGaussNewtonTreeFactorizations() const { return gaussNewtonTreeFactorizations_; }
 
   /// The path of `link` for a constraint acting on it as a rigid body
-  /// (internal: actors/link_path.h), its frame evaluated at the current
+  /// (internal: stage/link_path.h), its frame evaluated at the current
   /// iterate.
   internal::LinkPath GetLinkPath(int link) const;
   /// Refreshes path.position, path.rotation and path.jacobian at the current
@@ -237,21 +237,26 @@ class ArticulatedActor final : public Actor {
   void WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const override;
   void WriteDofInverseMasses(Span<real> inverseMasses) const override;
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
-  void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
+  void BeginStage(internal::StageContext const& context) override;
+  void MoveToFirstIterate() override;
   real Energy(internal::OwnedContributors owned) const override;
   real EnergyRoundOffScale() const override { return energyRoundOffScale_; }
-  void AddGradientAndHessian(internal::HessianAssembler& assembler,
-                             int firstContributor, bool projectHessian) const override;
-  bool CanSolveOwnBlock() const override { return blockSolve_ == ArticulatedBlockSolve::Tree; }
+  void AddGradientAndHessian(internal::HessianAssembler& assembler, int firstContributor,
+                             internal::AssemblyOptions const& options) const override;
+  // the own-block solve on the tree (stage/own_block_solve.h): offered with
+  // ArticulatedBlockSolve::Tree
+  internal::OwnBlockSolve* GetOwnBlockSolve() override {
+    return blockSolve_ == ArticulatedBlockSolve::Tree ? this : nullptr;
+  }
+  internal::StageDofs const& GetDofs() const override { return *this; }
   int GetDofGroup(int dof) const override { return dofLink_[dof]; }
-  bool FactorizeOwnBlock(internal::HessianAssembler& assembler, int firstContributor, bool projectHessian,
-                         bool separateCouplings, std::string& reason) override;
-  void SolveOwnBlock(Span<real const> rhs, Span<real> delta) override;
-  bool HasOwnBlockCoupling() const override { return !couplingDofs_.empty(); }
-  void EliminateOwnBlockFromRhs(Span<real> rhs) override;
-  bool FoldConstraint(Constraint* constraint) override;
-  void ClearFoldedConstraints() override;
-  void SetFoldedConstraintHessian(ConstraintHessian hessian) override { foldedSceneHessian_ = hessian; }
+  bool Factorize(internal::HessianAssembler& assembler, int firstContributor, bool projectHessian,
+                 bool separateCouplings, std::string& reason) override;
+  void Solve(Span<real const> rhs, Span<real> delta) override;
+  bool HasCoupling() const override { return !couplingDofs_.empty(); }
+  void EliminateFromRhs(Span<real> rhs) override;
+  bool Fold(internal::LinkTerm& term) override;
+  void ClearFolded() override;
   void SaveIterate() override;
   void RestoreIterate() override;
   void ApplyIncrementFromSaved(Span<real const> delta, real alpha) override;
@@ -332,8 +337,7 @@ class ArticulatedActor final : public Actor {
   /// another body, that body's DoFs' places in couplingDofs_ and the coupled
   /// link (coupledLinks_) it adds to.
   struct FoldedConstraint {
-    Constraint* constraint = nullptr;
-    int linkSlot = 0;
+    internal::LinkTerm* term = nullptr;
     int coupledLink = -1;
     DynamicArray<int> couplingIndex;
   };
@@ -381,7 +385,7 @@ class ArticulatedActor final : public Actor {
   /// single-body constraints on links taken into the tree (FoldConstraint),
   /// their workspace (sized when folded) and the scene's constraint Hessian
   DynamicArray<FoldedConstraint> folded_;
-  mutable internal::ConstraintWorkspace foldedWorkspace_;
+  mutable internal::TermWorkspace foldedWorkspace_;
   /// per DoF: the folded constraints' link-frame curvature by column norms
   /// (projected), added to the joints' diagonal blocks
   mutable VectorX foldedDiagonal_;
@@ -398,7 +402,6 @@ class ArticulatedActor final : public Actor {
   /// the tree's pivot modifications without the couplings' stiffness, per joint
   DynamicArray<Eigen::Matrix<real, 6, 6>> pivotChanges_;
   int foldedMaxDimension_ = 1, foldedMaxDofs_ = 1;
-  ConstraintHessian foldedSceneHessian_ = ConstraintHessian::GeometricStiffness;
   long modifiedTreeFactorizations_ = 0;
   long gaussNewtonTreeFactorizations_ = 0;
   mutable DynamicArray<Eigen::Matrix<real, 6, 6>> composite_;

@@ -247,10 +247,10 @@ void DeformableActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dof
   for (auto const& h : hinges_) dofLists.push_back(dofsOf(h));
 }
 
-void DeformableActor::BeginStage(internal::StageCoefficients const& requested, Real3 const& gravity) {
-  stage_ = (requested.usesHistory && !state_.hasHistory)
-               ? internal::MakeStage(IntegratorType::BackwardEuler, requested.duration, false)
-               : requested;
+void DeformableActor::BeginStage(internal::StageContext const& context) {
+  internal::StageCoefficients const& requested = context.coefficients;
+  Real3 const& gravity = context.gravity;
+  stage_ = requested.ForBody(state_.hasHistory);
   real const betaH = stage_.beta * stage_.duration;
   weight_ = stage_.InertiaWeight();
   gravityLocal_ = transformRotation_.conjugate() * gravity;
@@ -263,8 +263,12 @@ void DeformableActor::BeginStage(internal::StageCoefficients const& requested, R
     }
     stageStart_[i] = state_.displacement[i];
     target_[i] = state_.displacement[i] + stage_.cPrevious * previousOffset_[i] + betaH * velocity;
-    state_.displacement[i] = target_[i];  // Newton starts at the inertial target (see header)
   }
+}
+
+void DeformableActor::MoveToFirstIterate() {
+  // Newton starts at the inertial target (see header)
+  for (int i = 0; i < GetNumNodes(); ++i) state_.displacement[i] = target_[i];
 }
 
 real DeformableActor::Energy(internal::OwnedContributors owned) const {
@@ -277,8 +281,9 @@ real DeformableActor::Energy(internal::OwnedContributors owned) const {
   return energy + ElasticEnergy(owned);
 }
 
-void DeformableActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
-                                            int firstContributor, bool projectHessian) const {
+void DeformableActor::AddGradientAndHessian(internal::HessianAssembler& assembler, int firstContributor,
+                                         internal::AssemblyOptions const& options) const {
+  bool const projectHessian = options.projectHessian;
   // contributors: nodes, tetrahedra, triangles, hinges (AppendContributorDofs)
   int const numNodes = GetNumNodes();
   int const firstTet = firstContributor + numNodes;

@@ -1,6 +1,6 @@
 // A deformable actor: a mesh of nodes with 3 displacement DoFs each, u in
 // the actor frame; a node's world position is T(X + u) with X its reference
-// position and T the actor's fixed rigid transform (design.md §3, §4.2).
+// position and T the actor's fixed rigid transform (docs/design.md §3, §4.2).
 //
 // Elements, each a small dense block in the global Hessian:
 //   tetrahedra  linear, hyperelastic (TetMaterialModel), energy V·Ψ(F)
@@ -22,7 +22,7 @@
 #include <superdex/actors/shell_element.h>
 #include <superdex/actors/tet_element.h>
 #include <superdex/core/error.h>
-#include <superdex/scene/integrator.h>
+#include <superdex/stage/integrator.h>
 
 namespace superdex {
 
@@ -96,12 +96,13 @@ class DeformableActor final : public NodalActor {
   /// free-flight prediction), not the stage start: measured on the clamped
   /// 40×8×8 beam (dt = 1/60, CHOLMOD) it takes 4.5 instead of 5.5 Newton
   /// iterations per step over steps 2–12.
-  void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
+  void BeginStage(internal::StageContext const& context) override;
+  void MoveToFirstIterate() override;
   real Energy(internal::OwnedContributors owned) const override;
   /// Elastic energy of the `owned` elements (Energy's argument; empty: all).
   real ElasticEnergy(internal::OwnedContributors owned) const;
-  void AddGradientAndHessian(internal::HessianAssembler& assembler,
-                             int firstContributor, bool projectHessian) const override;
+  void AddGradientAndHessian(internal::HessianAssembler& assembler, int firstContributor,
+                             internal::AssemblyOptions const& options) const override;
   void SaveIterate() override;
   void RestoreIterate() override;
   void ApplyIncrementFromSaved(Span<real const> delta, real alpha) override;

@@ -1,6 +1,6 @@
 // Meshes of deformable actors: linear tetrahedra (volumes) and triangles
 // (shells), builders for the scenes the harness needs, readers for common
-// mesh files, and the structural checks actor creation runs (design.md §4.2).
+// mesh files, and the structural checks actor creation runs (docs/design.md §4.2).
 //
 // Indices are 0-based throughout. A tetrahedron {a, b, c, d} is positively
 // oriented when det[x_b − x_a, x_c − x_a, x_d − x_a] > 0 (its signed volume

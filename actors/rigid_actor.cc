@@ -5,7 +5,7 @@
 #include <superdex/assembly/hessian_assembler.h>
 #include <superdex/core/so3.h>
 #include <superdex/core/validate.h>
-#include <superdex/scene/integrator.h>
+#include <superdex/stage/integrator.h>
 
 namespace superdex {
 
@@ -103,10 +103,10 @@ void RigidActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists
 }
 
 
-void RigidActor::BeginStage(internal::StageCoefficients const& requested, Real3 const& gravity) {
-  stage_ = (requested.usesHistory && !state_.hasHistory)
-               ? internal::MakeStage(IntegratorType::BackwardEuler, requested.duration, false)
-               : requested;
+void RigidActor::BeginStage(internal::StageContext const& context) {
+  internal::StageCoefficients const& requested = context.coefficients;
+  Real3 const& gravity = context.gravity;
+  stage_ = requested.ForBody(state_.hasHistory);
   gravity_ = gravity;
   inertiaStage_.Begin(stage_, mass_, inertia_, state_);
 }
@@ -116,8 +116,9 @@ real RigidActor::Energy(internal::OwnedContributors owned) const {
   return inertiaStage_.Energy(state_.position, state_.rotation) - mass_ * gravity_.dot(state_.position);
 }
 
-void RigidActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
-                                       int firstContributor, bool projectHessian) const {
+void RigidActor::AddGradientAndHessian(internal::HessianAssembler& assembler, int firstContributor,
+                                         internal::AssemblyOptions const& options) const {
+  bool const projectHessian = options.projectHessian;
   if (!assembler.Evaluates(firstContributor)) return;
   // the exact rotational inertia Hessian adds the curvature of φ(δθ) against
   // w I_b (φ − φ̂), indefinite far from φ̂; projected, the block is the

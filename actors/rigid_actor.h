@@ -1,5 +1,5 @@
 // A rigid body: 6 DoFs, translation t (3) then a world-frame rotation
-// increment δθ (3), R ← Exp(δθ) R (design.md §3).
+// increment δθ (3), R ← Exp(δθ) R (docs/design.md §3).
 //
 // Stage inertia term (scene/integrator.h for the coefficients). With
 // Δₜ = t − tⁿ, the body-frame rotation φ = Log(Rⁿᵀ R) and the principal
@@ -18,7 +18,7 @@
 #include <superdex/actors/actor.h>
 #include <superdex/actors/rigid_inertia.h>
 #include <superdex/core/error.h>
-#include <superdex/scene/integrator.h>
+#include <superdex/stage/integrator.h>
 
 namespace superdex {
 
@@ -69,10 +69,10 @@ class RigidActor final : public Actor {
   void WriteDofLengthScales(Span<real> scales) const override;
   void WriteDofInverseMasses(Span<real> inverseMasses) const override;
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
-  void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
+  void BeginStage(internal::StageContext const& context) override;
   real Energy(internal::OwnedContributors owned) const override;
-  void AddGradientAndHessian(internal::HessianAssembler& assembler,
-                             int firstContributor, bool projectHessian) const override;
+  void AddGradientAndHessian(internal::HessianAssembler& assembler, int firstContributor,
+                             internal::AssemblyOptions const& options) const override;
   void SaveIterate() override;
   void RestoreIterate() override;
   void ApplyIncrementFromSaved(Span<real const> delta, real alpha) override;

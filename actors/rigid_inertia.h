@@ -12,7 +12,7 @@
 
 #include <superdex/core/so3.h>
 #include <superdex/core/types.h>
-#include <superdex/scene/integrator.h>
+#include <superdex/stage/integrator.h>
 
 namespace superdex::internal {
 

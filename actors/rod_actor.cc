@@ -313,10 +313,10 @@ void RodActor::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) 
     dofLists.push_back(range(4 * (i - 1), {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10}));
 }
 
-void RodActor::BeginStage(internal::StageCoefficients const& requested, Real3 const& gravity) {
-  stage_ = (requested.usesHistory && !state_.hasHistory)
-               ? internal::MakeStage(IntegratorType::BackwardEuler, requested.duration, false)
-               : requested;
+void RodActor::BeginStage(internal::StageContext const& context) {
+  internal::StageCoefficients const& requested = context.coefficients;
+  Real3 const& gravity = context.gravity;
+  stage_ = requested.ForBody(state_.hasHistory);
   real const betaH = stage_.beta * stage_.duration;
   weight_ = stage_.InertiaWeight();
   gravity_ = gravity;
@@ -335,7 +335,12 @@ void RodActor::BeginStage(internal::StageCoefficients const& requested, Real3 co
     twistStart_[i] = state_.twist[i];
     target_[i] = state_.displacement[i] + stage_.cPrevious * previousOffset_[i] + betaH * velocity;
     twistTarget_[i] = state_.twist[i] + stage_.cPrevious * twistPreviousOffset_[i] + betaH * twistVelocity;
-    // Newton starts at the inertial target, as for deformable actors
+  }
+}
+
+void RodActor::MoveToFirstIterate() {
+  // Newton starts at the inertial target, as for deformable actors
+  for (int i = 0; i < GetNumNodes(); ++i) {
     state_.displacement[i] = target_[i];
     state_.twist[i] = twistTarget_[i];
   }
@@ -353,8 +358,9 @@ real RodActor::Energy(internal::OwnedContributors owned) const {
   return energy + ElasticEnergy(owned);
 }
 
-void RodActor::AddGradientAndHessian(internal::HessianAssembler& assembler,
-                                     int firstContributor, bool projectHessian) const {
+void RodActor::AddGradientAndHessian(internal::HessianAssembler& assembler, int firstContributor,
+                                         internal::AssemblyOptions const& options) const {
+  bool const projectHessian = options.projectHessian;
   // contributors: nodes, elements, stencils (AppendContributorDofs)
   int const numNodes = GetNumNodes(), numElements = GetNumElements();
   int const firstElement = firstContributor + numNodes;

@@ -1,4 +1,4 @@
-// A rod: a discrete elastic rod on a polyline (design.md §4.3; energies and
+// A rod: a discrete elastic rod on a polyline (docs/design.md §4.3; energies and
 // frames in actors/rod_element.h). Nodes 0..N−1 and elements e = (e, e+1).
 //
 // DoFs, 4 per node: node i's displacement uᵢ (3, world frame: a rod's actor
@@ -28,7 +28,7 @@
 #include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/rod_element.h>
 #include <superdex/core/error.h>
-#include <superdex/scene/integrator.h>
+#include <superdex/stage/integrator.h>
 
 namespace superdex {
 
@@ -114,10 +114,11 @@ class RodActor final : public NodalActor {
   void WriteRigidBodyModes(Eigen::Ref<MatrixX> modes) const override;
   void WriteDofInverseMasses(Span<real> inverseMasses) const override;
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
-  void BeginStage(internal::StageCoefficients const& stage, Real3 const& gravity) override;
+  void BeginStage(internal::StageContext const& context) override;
+  void MoveToFirstIterate() override;
   real Energy(internal::OwnedContributors owned) const override;
-  void AddGradientAndHessian(internal::HessianAssembler& assembler,
-                             int firstContributor, bool projectHessian) const override;
+  void AddGradientAndHessian(internal::HessianAssembler& assembler, int firstContributor,
+                             internal::AssemblyOptions const& options) const override;
   void SaveIterate() override;
   void RestoreIterate() override;
   void ApplyIncrementFromSaved(Span<real const> delta, real alpha) override;

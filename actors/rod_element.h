@@ -1,4 +1,4 @@
-// Per-element kernels of the discrete elastic rod (design.md §4.3), after
+// Per-element kernels of the discrete elastic rod (docs/design.md §4.3), after
 // Bergou, Wardetzky, Robinson, Audoly, Grinspun 2008, "Discrete Elastic Rods"
 // (DER), with time-parallel reference frames (Bergou et al. 2010, "Discrete
 // Viscous Threads").

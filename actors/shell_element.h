@@ -1,4 +1,4 @@
-// Per-element kernels of shells (design.md §4.2): the membrane of a triangle
+// Per-element kernels of shells (docs/design.md §4.2): the membrane of a triangle
 // and the bending of a hinge (two triangles sharing an edge). Positions are
 // node-major: x = [x₀; x₁; x₂] (9) for a triangle, [x₀; x₁; x₂; x₃] (12) for
 // a hinge. Everything is fixed-size: no heap allocation.

@@ -1,4 +1,4 @@
-// Per-element kernels of the linear tetrahedron (design.md §4.2): rest data,
+// Per-element kernels of the linear tetrahedron (docs/design.md §4.2): rest data,
 // deformation gradient, hyperelastic energy, its gradient and (optionally
 // PSD-projected) Hessian w.r.t. the 12 node coordinates.
 //

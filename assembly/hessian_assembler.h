@@ -1,4 +1,4 @@
-// Two-phase assembly of the global Hessian and gradient (design.md §6).
+// Two-phase assembly of the global Hessian and gradient (docs/design.md §6).
 //
 // Analyze (topology changes only): from every contributor's DoF list build
 // the block graph, order it (METIS), build the upper-triangle CSC pattern of

@@ -39,49 +39,6 @@ std::string_view ToString(QueryType type) {
   return "Unknown";
 }
 
-std::string_view ToString(ConstraintHessian hessian) {
-  switch (hessian) {
-    case ConstraintHessian::SceneDefault: return "SceneDefault";
-    case ConstraintHessian::GaussNewton: return "GaussNewton";
-    case ConstraintHessian::GeometricStiffness: return "GeometricStiffness";
-    case ConstraintHessian::GeometricStiffnessDiagonal: return "GeometricStiffnessDiagonal";
-  }
-  return "Unknown";
-}
-
-namespace internal {
-bool CheckConstraintHessian(ConstraintHessian hessian, std::string_view field, bool allowSceneDefault,
-                            Error& error) {
-  switch (hessian) {
-    case ConstraintHessian::SceneDefault:
-      if (allowSceneDefault) return true;
-      error.Set(ErrorCode::InvalidArgument,
-                std::string(field) + " must name a Hessian (SceneDefault is for constraints only)");
-      return false;
-    case ConstraintHessian::GaussNewton:
-    case ConstraintHessian::GeometricStiffness:
-    case ConstraintHessian::GeometricStiffnessDiagonal: return true;
-  }
-  error.Set(ErrorCode::InvalidArgument, std::string(field) + " must be a ConstraintHessian, got the value " +
-                                            std::to_string(static_cast<int>(hessian)));
-  return false;
-}
-
-void ConstraintWorkspace::Reserve(int maxDimension, int maxDofs) {
-  g.resize(maxDimension);
-  f.resize(maxDimension);
-  r.resize(std::max(maxDofs, maxDimension));
-  jacobian.resize(maxDimension, maxDofs);
-  hessian.resize(maxDofs, maxDofs);
-  // (also the type's curvature of a folded constraint: up to kMaxDofs, more
-  // than a short path's n)
-  curvature.resize(std::max(maxDofs, kMaxDofs), std::max(maxDofs, kMaxDofs));
-  typeJacobian.resize(maxDimension, kMaxDofs);
-  linkMap.resize(kMaxDofs, maxDofs);
-  product.resize(kMaxDofs, maxDofs);
-}
-}  // namespace internal
-
 Constraint::Constraint(Layout layout, internal::CompliantParams const& params)
     : type_(layout.type),
       dimension_(layout.dimension),
@@ -410,6 +367,7 @@ void Constraint::AddCurvature(Span<real const> target, Eigen::Ref<VectorX const>
 bool Constraint::BeginStage(real h, real nearRigidBeta, Span<real const> inverseMasses,
                             internal::ConstraintWorkspace& ws) {
   // g(qᵢ⁰, p̂ᵢ⁰): the actors are at the stage start, the old target is p̂ᵢ⁰
+  stageDuration_ = h;
   Evaluate(oldTarget_, ws);
   stageStartValue_ = ws.g.head(dimension_);
   linearValue_.resize(dimension_);
@@ -519,8 +477,29 @@ int Constraint::FoldableLinkSlot() const {
   return links_[0] >= 0 ? 0 : 1;
 }
 
+internal::StageDofs const* Constraint::GetLinkOwner() const {
+  return &actors_[FoldableLinkSlot()]->GetStageDofs();
+}
+
+Span<int const> Constraint::GetOtherDofs() const {
+  if (numActors_ < 2) return {};
+  return slotDofs_[1 - FoldableLinkSlot()];
+}
+
+Span<int const> Constraint::GetOtherColumns() const {
+  if (numActors_ < 2) return {};
+  return slotColumns_[1 - FoldableLinkSlot()];
+}
+
+bool Constraint::AddLinkTerms(bool projectHessian, internal::TermWorkspace& ws,
+                              internal::TermWorkspace::FoldedBlock& hessian,
+                              Eigen::Matrix<real, 6, 1>& curvatureWrench, bool& exactCurvature) const {
+  return AddFoldedTerms(stageDuration_, sceneHessian_, projectHessian, FoldableLinkSlot(), ws, hessian,
+                        curvatureWrench, exactCurvature);
+}
+
 bool Constraint::AddFoldedTerms(real h, ConstraintHessian sceneHessian, bool projectHessian, int linkSlot,
-                                internal::ConstraintWorkspace& ws, internal::ConstraintWorkspace::FoldedBlock& hessian,
+                                internal::ConstraintWorkspace& ws, internal::TermWorkspace::FoldedBlock& hessian,
                                 Eigen::Matrix<real, 6, 1>& curvatureWrench, bool& exactCurvature) const {
   int const other = numActors_ == 2 ? 1 - linkSlot : -1;
   int const numOther = other >= 0 ? static_cast<int>(localDofs_[other].size()) : 0;

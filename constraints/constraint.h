@@ -14,11 +14,14 @@
 
 #include <Eigen/Eigenvalues>
 
-#include <superdex/actors/link_path.h>
 #include <superdex/constraints/compliant_potential.h>
 #include <superdex/core/error.h>
 #include <superdex/core/handle.h>
 #include <superdex/core/types.h>
+#include <superdex/stage/constraint_hessian.h>
+#include <superdex/stage/link_path.h>
+#include <superdex/stage/own_block_solve.h>
+#include <superdex/stage/term_workspace.h>
 
 namespace superdex {
 
@@ -52,60 +55,12 @@ enum class QueryType {
 
 std::string_view ToString(QueryType type);
 
-/// How a constraint's block of the Newton Hessian is formed (the gradient,
-/// and so the minimizer of every stage, is the same whichever is chosen;
-/// docs/constraints.md "The constraint Hessian" has the measurements behind
-/// the default). With the force coefficients f = κ g + d/Δtᵢ Δg and the
-/// curvature G = Σᵢ fᵢ ∂²gᵢ/∂q² (the term the reference page drops):
-enum class ConstraintHessian {
-  /// Per constraint: use the scene's choice (SceneParams::constraintHessian).
-  SceneDefault,
-  /// The reference page's Gauss–Newton block (κ + d/Δtᵢ) JᵀJ.
-  GaussNewton,
-  /// Geometric stiffness: (κ + d/Δtᵢ) JᵀJ + G, exact while Newton tries
-  /// exact Hessians (HessianProjection::WhenIndefinite: the assembled matrix
-  /// is positive definite and the step a descent direction); in projected
-  /// iterations G is replaced by its diagonal form (below), PSD.
-  GeometricStiffness,
-  /// (κ + d/Δtᵢ) JᵀJ + diag(‖G e_j‖): G replaced by the diagonal of its
-  /// column norms (Andrews, Teichmann & Kry 2017), PSD by construction.
-  GeometricStiffnessDiagonal,
-};
-
-std::string_view ToString(ConstraintHessian hessian);
 
 namespace internal {
-class StageSolver;
+class ConstraintSet;
 class HessianAssembler;
 struct ConstraintTestAccess;  // defined by white-box tests only
-
-/// True when `hessian` is a ConstraintHessian value (SceneDefault only where
-/// `allowSceneDefault`); otherwise an InvalidArgument Error naming `field`.
-bool CheckConstraintHessian(ConstraintHessian hessian, std::string_view field, bool allowSceneDefault,
-                            Error& error);
-
-/// Scratch for evaluating constraints, owned by the stage solver and sized
-/// once per pattern build to the largest m and n.
-struct ConstraintWorkspace {
-  /// The most DoFs a type's kinematics couple (RigidSphericalJoint: 12, six
-  /// per rigid body); with an articulated link in place of a rigid body a
-  /// constraint's n is larger (its path's joint DoFs), its type's is not.
-  static constexpr int kMaxDofs = 12;
-  using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDofs, kMaxDofs>;
-  /// A constraint folded into an articulated link (Constraint::AddFoldedTerms):
-  /// the link frame's six increments and the other body's DoFs (at most
-  /// kMaxDofs: a rod element's eight)
-  using FoldedBlock = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6 + kMaxDofs, 6 + kMaxDofs>;
-
-  VectorX g, f, r;
-  MatrixX jacobian, hessian;
-  MatrixX curvature;  ///< G over the constraint's n DoFs (or a folded type's, at most kMaxDofs)
-  // a constraint on articulated links: the type's J and G over its rigid
-  // DoFs, the map from the constraint's DoFs to them, and a product
-  MatrixX typeJacobian, linkMap, product;
-  Block typeCurvature;
-  void Reserve(int maxDimension, int maxDofs);
-};
+using ConstraintWorkspace = TermWorkspace;
 
 /// A rigid body a constraint acts on: a RigidActor (link −1) or link `link`
 /// of an ArticulatedActor.
@@ -115,9 +70,9 @@ struct RigidBodySlot {
 };
 }  // namespace internal
 
-class Constraint {
+class Constraint : private internal::LinkTerm {
  public:
-  virtual ~Constraint() = default;
+  ~Constraint() override = default;
   Constraint(Constraint const&) = delete;
   Constraint& operator=(Constraint const&) = delete;
 
@@ -220,12 +175,12 @@ class Constraint {
   Constraint(Layout layout, internal::CompliantParams const& params);
 
   /// g and J (m×n, columns in DoF-list order, w.r.t. the DoF increments of
-  /// design.md §3) at the actors' current configuration for `target`.
+  /// docs/design.md §3) at the actors' current configuration for `target`.
   virtual void DoEvaluate(Span<real const> target, Eigen::Ref<VectorX> g,
                           Eigen::Ref<MatrixX> jacobian) const = 0;
   /// Adds the curvature of g contracted with `weights` (m entries),
   /// Σᵢ wᵢ ∂²gᵢ/∂q² (n×n, DoF-list order, second derivatives w.r.t. the DoF
-  /// increments of design.md §3 at zero increment), to `hessian`, at the
+  /// increments of docs/design.md §3 at zero increment), to `hessian`, at the
   /// actors' current configuration for `target`. Types with hasCurvature
   /// override; range types include their one-sided slopes (∂²gᵢ = ±∂²xᵢ where
   /// a bound is violated, 0 inside).
@@ -254,8 +209,7 @@ class Constraint {
 
  private:
   friend class Scene;
-  friend class ArticulatedActor;
-  friend class internal::StageSolver;
+  friend class internal::ConstraintSet;
   friend struct internal::ConstraintTestAccess;
 
   /// Sets a NotSupported error: "<method> does not apply to a <type> constraint<why>".
@@ -281,6 +235,19 @@ class Constraint {
   /// is not a link (a rigid body, a deformable node, a rod element; the
   /// actor then couples its tree with those DoFs by a Schur complement).
   int FoldableLinkSlot() const;
+  /// This constraint as a term an own-block solve can take in (a
+  /// FoldableLinkSlot constraint), or nullptr.
+  internal::LinkTerm* GetLinkTerm() { return FoldableLinkSlot() >= 0 ? this : nullptr; }
+  // internal::LinkTerm, on the link of FoldableLinkSlot (AddLinkTerms:
+  // AddFoldedTerms with this stage's Δtᵢ and the scene's constraint Hessian)
+  internal::StageDofs const* GetLinkOwner() const override;
+  internal::LinkPath const& GetLinkPath() const override { return paths_[FoldableLinkSlot()]; }
+  Span<int const> GetPathDofs() const override { return slotDofs_[FoldableLinkSlot()]; }
+  Span<int const> GetPathColumns() const override { return slotColumns_[FoldableLinkSlot()]; }
+  Span<int const> GetOtherDofs() const override;
+  Span<int const> GetOtherColumns() const override;
+  bool AddLinkTerms(bool projectHessian, internal::TermWorkspace& ws, internal::TermWorkspace::FoldedBlock& hessian,
+                    Eigen::Matrix<real, 6, 1>& curvatureWrench, bool& exactCurvature) const override;
   /// Newton's linearization at the current iterate, recorded for the force
   /// predictions: ws.g, ws.jacobian (Evaluate), ws.f = f(g) and ws.r = Jᵀ f;
   /// returns the Gauss–Newton scale κ + d/h, or −1 for an inactive range
@@ -309,7 +276,7 @@ class Constraint {
   /// column norms (as G's). Returns false when it adds nothing (an inactive
   /// range constraint).
   bool AddFoldedTerms(real h, ConstraintHessian sceneHessian, bool projectHessian, int linkSlot,
-                      internal::ConstraintWorkspace& ws, internal::ConstraintWorkspace::FoldedBlock& hessian,
+                      internal::ConstraintWorkspace& ws, internal::TermWorkspace::FoldedBlock& hessian,
                       Eigen::Matrix<real, 6, 1>& curvatureWrench, bool& exactCurvature) const;
 
   // stage interface
@@ -371,10 +338,10 @@ class Constraint {
   std::array<DynamicArray<int>, 2> typeDofs_;
   mutable std::array<internal::LinkPath, 2> paths_;
   int typeNumDofs_ = 0;
-  /// the actor whose tree takes this constraint (StageSolver::
-  /// ChooseOwnBlockSolves), or nullptr: assembled by the scene
-  Actor* foldedInto_ = nullptr;
   internal::CompliantParams params_;
+  /// this stage's Δtᵢ and the scene's constraint Hessian (BeginStage)
+  real stageDuration_ = 1;
+  ConstraintHessian sceneHessian_ = ConstraintHessian::GeometricStiffness;
   internal::CompliantParams stageParams_;  ///< params_, or its near-rigid cap, for this stage
   bool nearRigidCapped_ = false;
 

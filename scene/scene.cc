@@ -7,19 +7,9 @@
 #include <type_traits>
 
 #include <superdex/core/validate.h>
-#include <superdex/scene/stage_solver.h>
+#include <superdex/solver/newton_solver.h>
 
 namespace superdex {
-
-std::string_view ToString(HessianProjection projection) {
-  switch (projection) {
-    case HessianProjection::WhenIndefinite:
-      return "WhenIndefinite";
-    case HessianProjection::Always:
-      return "Always";
-  }
-  return "Unknown";
-}
 
 namespace {
 template <class Tag>
@@ -76,7 +66,7 @@ Scene::Scene(SceneParams const& params)
       params_(params),
       actors_(id_),
       constraints_(id_),
-      solver_(std::make_unique<internal::StageSolver>()) {}
+      solver_(std::make_unique<internal::NewtonSolver>()) {}
 
 Scene::~Scene() = default;
 
@@ -719,8 +709,17 @@ bool Scene::Step(real dt, Error& error) {
 
   if (topologyChanged_) {
     auto const analysisStart = std::chrono::steady_clock::now();
-    if (!solver_->Analyze(actorOrder_, constraintOrder_, params_.ordering, stats_, error))
-      return false;
+    // the stage's DoF owners (the actors, in DoF order) and terms (each
+    // actor's inertia and elastic energy, then the constraints)
+    DynamicArray<internal::StageDofs*> dofs;
+    DynamicArray<internal::StageTerm*> terms;
+    for (Actor* actor : actorOrder_) {
+      dofs.push_back(&actor->GetStageDofs());
+      terms.push_back(&actor->GetStageTerm());
+    }
+    constraintTerm_.SetConstraints(constraintOrder_);
+    terms.push_back(&constraintTerm_);
+    if (!solver_->Analyze(std::move(dofs), std::move(terms), params_.ordering, stats_, error)) return false;
     topologyChanged_ = false;
     stats_.analysisSeconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - analysisStart).count();
@@ -782,10 +781,12 @@ bool Scene::AdvanceSubsteps(real dt, int substeps, real& historyStep, int& faile
   for (int index = 1; index <= substeps; ++index) {
     if (substeps > 1) SetSubstepTargets(index, substeps);
     // BDF2 uses the history only when it spans a step of this size
-    internal::StageCoefficients const stage =
-        internal::MakeStage(params_.integrator, h, internal::IsHistoryUsable(historyStep, h));
-    if (!solver_->Solve(0, stage, actorOrder_, constraintOrder_, params_.gravity, params_.newton,
-                        stats_, error)) {
+    internal::StageContext stage;
+    stage.coefficients = internal::MakeStage(params_.integrator, h, internal::IsHistoryUsable(historyStep, h));
+    stage.gravity = params_.gravity;
+    bool const solved = solver_->Solve(0, stage, params_.newton, stats_, error);
+    stats_.nearRigidConstraints = std::max(stats_.nearRigidConstraints, constraintTerm_.GetNumNearRigid());
+    if (!solved) {
       failedSubstep = index;
       return false;
     }

@@ -1,8 +1,9 @@
-// Scene: owns actors and constraints and steps them (design.md §5, §10).
+// Scene: owns actors and constraints and steps them (docs/architecture.md,
+// "One step, through the code").
 //
-//   Scene::Step → integrator builds the stage → StageSolver (Newton):
-//   assembly fills values into the cached pattern → linear solver →
-//   line search → commit.
+//   Scene::Step → integrator builds the stage → NewtonSolver over the stage's
+//   terms (every actor, the constraints): assembly fills values into the
+//   cached pattern → linear solver → line search → commit.
 //
 // A step is transactional: if any stage fails, every actor (and constraint
 // state) is restored exactly to its pre-step state and Step returns false
@@ -21,6 +22,7 @@
 #include <superdex/actors/rod_actor.h>
 #include <superdex/constraints/articulated_joint_constraints.h>
 #include <superdex/constraints/constraint.h>
+#include <superdex/constraints/constraint_set.h>
 #include <superdex/constraints/deformable_node_position.h>
 #include <superdex/constraints/deformable_node_to_deformable_node.h>
 #include <superdex/constraints/deformable_node_to_rigid.h>
@@ -40,7 +42,7 @@ namespace superdex {
 
 class Scene;
 namespace internal {
-class StageSolver;
+class NewtonSolver;
 struct FaultInjection;
 struct ActorSnapshot;
 /// Test hook: injects a linear-solver failure (see FaultInjection).
@@ -241,7 +243,9 @@ class Scene {
   DynamicArray<std::unique_ptr<Constraint>> quarantine_;
   int quarantineNext_ = 0;
   bool topologyChanged_ = true;
-  std::unique_ptr<internal::StageSolver> solver_;
+  std::unique_ptr<internal::NewtonSolver> solver_;
+  /// the constraints as one term of the stage (in constraintOrder_)
+  internal::ConstraintSet constraintTerm_;
   SceneStats stats_;
   real time_ = 0;
   /// Step size over which the actors' integrator history was recorded (the

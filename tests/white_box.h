@@ -1,15 +1,18 @@
 // White-box access for the derivative tests: the library declares
-// `friend struct internal::ConstraintTestAccess;` in Constraint and
-// `friend struct internal::ActorTestAccess;` in Actor and leaves both
-// undefined; tests define them here, in one place, as thin forwarders to the
-// private stage interface. Nothing here adds behaviour.
+// `friend struct internal::ConstraintTestAccess;` in Constraint and leaves it
+// undefined; tests define it here, in one place, as thin forwarders to the
+// private stage interface. ActorTestAccess drives one actor through the
+// stage contract (stage/stage_term.h) as the Newton solver does. Nothing
+// here adds behaviour.
 //
 // Also holds the small dense helpers the derivative tests share: reading an
 // assembled Hessian back into natural DoF order, and the tangent-space
-// perturbation of a rigid body (design.md §3: t ± ε e_j, R ← Exp(±ε e_j) R).
+// perturbation of a rigid body (docs/design.md §3: t ± ε e_j, R ← Exp(±ε e_j) R).
 #pragma once
 
 #include <superdex/assembly/hessian_assembler.h>
+#include <superdex/stage/own_block_solve.h>
+#include <superdex/stage/stage_term.h>
 #include <superdex/superdex.h>
 
 #include <catch2/catch.hpp>
@@ -78,41 +81,56 @@ struct ConstraintTestAccess {
   static DynamicArray<int> const& LocalDofs(Constraint const& c, int a) { return c.localDofs_[a]; }
 };
 
+/// The stage contract of an actor (stage/stage_term.h), as the Newton solver
+/// drives it, for tests that drive one actor by hand.
 struct ActorTestAccess {
   static void WriteDofInverseMasses(Actor const& a, Span<real> inverseMasses) {
-    a.WriteDofInverseMasses(inverseMasses);
+    a.GetStageDofs().WriteDofInverseMasses(inverseMasses);
   }
+  /// BeginStage at the committed configuration, then the first iterate.
   static void BeginStage(Actor& a, StageCoefficients const& stage, Real3 const& gravity) {
-    a.BeginStage(stage, gravity);
+    StageContext context;
+    context.coefficients = stage;
+    context.gravity = gravity;
+    a.GetStageTerm().BeginStage(context);
+    a.GetStageDofs().MoveToFirstIterate();
   }
-  static real Energy(Actor const& a, OwnedContributors owned = {}) { return a.Energy(owned); }
+  /// The whole energy (one process: every contributor counted).
+  static real Energy(Actor const& a) { return Energy(a, HessianAssembler{}, 0); }
+  /// The energy of the contributors `assembler` says this process owns,
+  /// those of the actor numbered from `firstContributor`.
+  static real Energy(Actor const& a, HessianAssembler const& assembler, int firstContributor) {
+    EnergySum sum;
+    a.GetStageTerm().AddEnergy(assembler, firstContributor, sum);
+    return sum.energy;
+  }
   static void AddGradientAndHessian(Actor const& a, Span<real> gradient, HessianAssembler& assembler,
                                     int firstContributor, bool projectHessian = true) {
     assembler.BeginAssembly(gradient);
-    a.AddGradientAndHessian(assembler, firstContributor, projectHessian);
+    a.GetStageTerm().AddGradientAndHessian(assembler, firstContributor, AssemblyOptions{projectHessian});
     assembler.FinishAssembly();
   }
   static void AppendContributorDofs(Actor const& a, DynamicArray<DynamicArray<int>>& dofLists) {
-    a.AppendContributorDofs(dofLists);
+    a.GetStageTerm().AppendContributorDofs(dofLists);
   }
-  static void AppendDofBlockSizes(Actor const& a, DynamicArray<int>& sizes) {
-    a.AppendDofBlockSizes(sizes);
-  }
+  static void AppendDofBlockSizes(Actor const& a, DynamicArray<int>& sizes) { a.GetStageDofs().AppendDofBlockSizes(sizes); }
   /// Moves the actor by `delta` (a global-size vector, entries at the actor's
   /// DoFs) from its saved iterate; SaveIterate first, RestoreIterate after.
-  static void SaveIterate(Actor& a) { a.SaveIterate(); }
-  static void RestoreIterate(Actor& a) { a.RestoreIterate(); }
+  static void SaveIterate(Actor& a) { a.GetStageDofs().SaveIterate(); }
+  static void RestoreIterate(Actor& a) { a.GetStageDofs().RestoreIterate(); }
   static void ApplyIncrementFromSaved(Actor& a, Span<real const> delta, real alpha) {
-    a.ApplyIncrementFromSaved(delta, alpha);
+    a.GetStageDofs().ApplyIncrementFromSaved(delta, alpha);
   }
-  static void EndStage(Actor& a) { a.EndStage(); }
-  static void WriteRigidBodyModes(Actor const& a, Eigen::Ref<MatrixX> modes) { a.WriteRigidBodyModes(modes); }
-  static void SetSolvesOwnBlock(Actor& a, bool solves) { a.SetSolvesOwnBlock(solves); }
+  static void EndStage(Actor& a) { a.GetStageTerm().EndStage(); }
+  static void WriteRigidBodyModes(Actor const& a, Eigen::Ref<MatrixX> modes) { a.GetStageDofs().WriteRigidBodyModes(modes); }
+  /// The actor's own-block solve (an articulated actor on its tree).
+  static OwnBlockSolve& OwnBlock(Actor& a) { return *a.GetStageTerm().GetOwnBlockSolve(); }
+  static void SetSolvesOwnBlock(Actor& a, bool solves) { OwnBlock(a).SetActive(solves); }
   static bool FactorizeOwnBlock(Actor& a, HessianAssembler& assembler, int firstContributor, bool projectHessian,
                                 std::string& reason) {
-    return a.FactorizeOwnBlock(assembler, firstContributor, projectHessian, /*separateCouplings=*/false, reason);
+    return OwnBlock(a).Factorize(assembler, firstContributor, projectHessian, /*separateCouplings=*/false, reason);
   }
-  static void SolveOwnBlock(Actor& a, Span<real const> rhs, Span<real> delta) { a.SolveOwnBlock(rhs, delta); }
+  static void SolveOwnBlock(Actor& a, Span<real const> rhs, Span<real> delta) { OwnBlock(a).Solve(rhs, delta); }
 };
 
 }  // namespace superdex::internal

@@ -9,7 +9,7 @@
 // The hub is held in place by a RigidPivotToRigidTarget and driven by a
 // RigidPivotRotation whose target turns at π/2 rad/s for 1 s, then stops.
 // Each rod end is clamped to the hub by DeformableNodeToRigid (the end node)
-// + RodElementRotationToRigid (the end element), as design.md §4.3 describes.
+// + RodElementRotationToRigid (the end element), as docs/design.md §4.3 describes.
 //
 // Released straight, the round rod droops under gravity (q L³/EI ≈ 1.2: a
 // large deflection) and the edge-up ribbons barely (q L³/EI₂ ≈ 0.14). The

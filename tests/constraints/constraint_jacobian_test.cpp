@@ -1,5 +1,5 @@
 // Constraint Jacobians against central differences of g in the tangent
-// increments of design.md §3, for every constraint type, at rotations near 0,
+// increments of docs/design.md §3, for every constraint type, at rotations near 0,
 // moderate, and within 1e-3 of π, with non-zero pivots and non-trivial frames
 // and targets. g itself is checked against the reference formula
 // (constraints.md) evaluated here with Eigen (matrices, Eigen::AngleAxis for

@@ -1,7 +1,7 @@
 // Shared fixtures of the constraint derivative tests: a scene of rigid bodies
 // at chosen poses, constraints made through the public Scene API, and central
 // differences over a constraint's DoFs in the tangent increments of
-// design.md §3 (t ± ε e_j; R ← Exp(±ε e_j) R).
+// docs/design.md §3 (t ± ε e_j; R ← Exp(±ε e_j) R).
 #pragma once
 
 #include "test_support.h"

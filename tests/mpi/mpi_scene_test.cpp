@@ -13,7 +13,7 @@
 #include <mpi.h>
 
 #include <superdex/core/mpi.h>
-#include <superdex/scene/stage_solver.h>
+#include <superdex/solver/newton_solver.h>
 
 #include "harness/families.h"
 #include "white_box.h"
@@ -198,7 +198,7 @@ TEST_CASE("each contributor's energy is counted on exactly one rank", "[mpi][ene
   for (std::size_t a = 0; a < actors.size(); ++a) {
     int const count = firstContributor[a + 1] - firstContributor[a];
     real const whole = Access::Energy(*actors[a]);
-    real shares[2] = {Access::Energy(*actors[a], assembler.GetOwnedContributors(firstContributor[a], count)), 0};
+    real shares[2] = {Access::Energy(*actors[a], assembler, firstContributor[a]), 0};
     shares[1] = std::abs(shares[0]);
     MPI_Allreduce(MPI_IN_PLACE, shares, 2, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
     CAPTURE(a, count, whole, shares[0]);

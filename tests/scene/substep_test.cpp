@@ -13,7 +13,7 @@
 #include "white_box.h"
 
 #include <superdex/core/validate.h>
-#include <superdex/scene/stage_solver.h>
+#include <superdex/solver/newton_solver.h>
 
 #include <cstring>
 

@@ -2,7 +2,7 @@
 // Error naming the stage and the cause.
 #include "test_scenes.h"
 
-#include <superdex/scene/stage_solver.h>
+#include <superdex/solver/newton_solver.h>
 
 #include <cstring>
 

@@ -8,7 +8,7 @@
 // (ω_k; v_k) DoF k's world motion (v at the world origin), t the frame's
 // origin: `jacobian` holds the columns (v_k + ω_k × t; ω_k), in the order of a
 // rigid body's DoFs (translation, then the world rotation increment of
-// R ← Exp(δθ) R, design.md §3). ArticulatedActor::ComputeLinkFrame refreshes
+// R ← Exp(δθ) R, docs/architecture.md "Degrees of freedom"). ArticulatedActor::ComputeLinkFrame refreshes
 // position, rotation and jacobian at the actor's current iterate.
 #pragma once
 

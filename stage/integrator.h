@@ -1,4 +1,4 @@
-// Time integrators as stage generators (design.md §5).
+// Time integrators as stage generators (docs/architecture.md, "The stage").
 //
 // A step of size h is a sequence of implicit stages. Every integrator here
 // writes its stage in one form, for any DoF in tangent coordinates relative
@@ -37,6 +37,12 @@ struct StageCoefficients {
 
   /// w = 1/(β h)²
   real InertiaWeight() const { return 1 / ((beta * duration) * (beta * duration)); }
+
+  /// The coefficients a body with or without a history of its own uses in
+  /// this stage: these, or, for a body without history (its first step, or
+  /// one created or teleported since the last step) where these use it,
+  /// backward Euler's over the same duration.
+  StageCoefficients ForBody(bool hasHistory) const;
 };
 
 /// The single stage of one step of `type`; `hasHistory` is false on a first

@@ -1,4 +1,4 @@
-#include <superdex/scene/integrator.h>
+#include <superdex/stage/integrator.h>
 
 #include <cmath>
 
@@ -25,6 +25,10 @@ StageCoefficients MakeStage(IntegratorType type, real dt, bool hasHistory) {
     s.usesHistory = true;
   }
   return s;
+}
+
+StageCoefficients StageCoefficients::ForBody(bool hasHistory) const {
+  return usesHistory && !hasHistory ? MakeStage(IntegratorType::BackwardEuler, duration, false) : *this;
 }
 
 bool IsHistoryUsable(real historyStep, real dt) {

@@ -1,4 +1,4 @@
-#include <superdex/scene/collectives.h>
+#include <superdex/solver/collectives.h>
 
 #include <superdex/core/mpi.h>
 
@@ -43,6 +43,37 @@ void OwnedRowsProduct::Multiply(SparseSymmetricMatrix const& a, Span<real const>
   int const rank = communicator_.GetRank();
   MultiplySymmetricRows(a, (*partRowStart_)[rank], (*partRowStart_)[rank + 1], x, y);
   AllgatherRows(communicator_, *partRowStart_, counts_, displacements_, y);
+}
+
+void RankGroup::Set(Communicator const& communicator) {
+  communicator_ = communicator;
+  numRanks_ = communicator.GetSize();
+  rank_ = communicator.GetRank();
+}
+
+void RankGroup::Reserve(int numDofs) {
+  if (!IsDistributed()) return;
+  orderedGradient_.setZero(numDofs);
+  rankCounts_.assign(numRanks_, 0);
+  rankDisplacements_.assign(numRanks_, 0);
+  rankSums_.assign(2 * static_cast<std::size_t>(numRanks_), 0);
+}
+
+void RankGroup::GatherGradient(HessianAssembler const& assembler, Span<real> gradient) {
+  int const n = static_cast<int>(gradient.size());
+  assembler.PermuteToOrdered(Span<real const>(gradient.data(), n), Span<real>(orderedGradient_.data(), n));
+  AllgatherRows(communicator_, assembler.GetPartRowStart(), rankCounts_, rankDisplacements_,
+                Span<real>(orderedGradient_.data(), n));
+  assembler.PermuteToNatural(Span<real const>(orderedGradient_.data(), n), gradient);
+}
+
+void RankGroup::SumInRankOrder(Span<real> values) { internal::SumInRankOrder(communicator_, values, rankSums_); }
+
+bool RankGroup::OnAllRanks(bool value) const { return internal::OnAllRanks(communicator_, value); }
+
+OwnedRowsProduct& RankGroup::GetProduct(HessianAssembler const& assembler) {
+  ownedRowsProduct_.Set(communicator_, &assembler.GetPartRowStart());
+  return ownedRowsProduct_;
 }
 
 }  // namespace superdex::internal

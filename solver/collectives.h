@@ -1,5 +1,6 @@
-// Internal: the few collective operations the stage solver needs across MPI
-// ranks (docs/distributed.md, "Stage 1"). Every rank holds the whole scene;
+// Internal: the few collective operations the Newton solver needs across MPI
+// ranks (docs/distributed.md, "Stage 1"), and RankGroup, the distributed
+// pieces of a stage solve with their scratch. Every rank holds the whole scene;
 // these keep what each rank computes for its own part, and every decision
 // taken from it, the same on all ranks. (A linear solver's result is made
 // the same on every rank by AgreeOnResult, petsc_distributed_matrix.h.)
@@ -7,6 +8,8 @@
 
 #include <superdex/core/communicator.h>
 #include <superdex/core/types.h>
+#include <superdex/assembly/hessian_assembler.h>
+#include <superdex/linsolve/linear_solver.h>
 #include <superdex/linsolve/reused_factor_cg.h>
 
 namespace superdex::internal {
@@ -42,6 +45,36 @@ class OwnedRowsProduct final : public MatrixProduct {
   Communicator communicator_;
   DynamicArray<int> const* partRowStart_ = nullptr;
   DynamicArray<int> counts_, displacements_;  ///< MPI_Allgatherv scratch
+};
+
+/// The ranks a stage runs on (SceneParams::communicator) and what the Newton
+/// solver does across them: each rank assembles its part of the rows; these
+/// make every rank hold the same gradient, energy and decisions.
+class RankGroup {
+ public:
+  void Set(Communicator const& communicator);
+  Communicator const& GetCommunicator() const { return communicator_; }
+  int GetSize() const { return numRanks_; }
+  int GetRank() const { return rank_; }
+  bool IsDistributed() const { return numRanks_ > 1; }
+
+  /// Sizes the scratch for a pattern of `numDofs` (at each pattern build).
+  void Reserve(int numDofs);
+  /// Every rank's owned entries of `gradient` (natural order) to every rank.
+  void GatherGradient(HessianAssembler const& assembler, Span<real> gradient);
+  /// Each value summed over the ranks, in rank order (at most 2 values).
+  void SumInRankOrder(Span<real> values);
+  bool OnAllRanks(bool value) const;
+  /// The product of a reused-factor CG across the ranks.
+  OwnedRowsProduct& GetProduct(HessianAssembler const& assembler);
+
+ private:
+  Communicator communicator_;
+  int numRanks_ = 1, rank_ = 0;
+  VectorX orderedGradient_;  ///< the gradient in the partition-major order
+  OwnedRowsProduct ownedRowsProduct_;
+  DynamicArray<int> rankCounts_, rankDisplacements_;  ///< MPI_Allgatherv scratch
+  DynamicArray<real> rankSums_;  ///< SumInRankOrder scratch: 2 per rank
 };
 
 }  // namespace superdex::internal

@@ -1,4 +1,4 @@
-// scene/integrator.h: the time integrators (stage generators).
+// stage/integrator.h: the time integrators (stage generators).
 #include "defines.h"
 
 namespace superdex::python {

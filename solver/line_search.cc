@@ -1,0 +1,126 @@
+#include <superdex/solver/line_search.h>
+
+#include <cmath>
+
+#include <superdex/solver/newton_params.h>
+#include <superdex/solver/scene_stats.h>
+
+namespace superdex::internal {
+
+namespace {
+/// Doublings of a projected step on a concave ray (at most 2²⁰ times the step)
+constexpr int kMaxExpansions = 20;
+/// Chord iterations of a second-order correction
+constexpr int kMaxCorrections = 4;
+
+/// Armijo's sufficient decrease (c = 1e-4) for a step of α along a direction
+/// of slope ∇E·δ, with a round-off allowance of 1e-12 |E| plus the
+/// resolution of Eᵢ: a full Newton step near the minimum, whose decrease is
+/// below what Eᵢ resolves, is taken rather than halved on round-off until it
+/// no longer moves the iterate
+bool SufficientDecrease(real energy, real trialEnergy, real alpha, real slope, real resolution) {
+  real const allowance = 1e-12 * std::max(std::abs(energy), std::abs(trialEnergy)) + resolution;
+  return std::isfinite(trialEnergy) && trialEnergy <= energy + 1e-4 * alpha * slope + allowance;
+}
+}  // namespace
+
+void LineSearch::Reserve(int numDofs) {
+  newtonStep_.setZero(numDofs);
+  correctedStep_.setZero(numDofs);
+}
+
+void LineSearch::TakeWhole() {
+  Span<real const> const delta(delta_->data(), delta_->size());
+  problem_.ApplyIncrementFromSaved(delta, problem_.LargestSafeStep(delta, 1));
+}
+
+bool LineSearch::Search(NewtonParams const& newton, bool projected, real slope, real& energy, SceneStats& stats) {
+  Span<real const> const delta(delta_->data(), delta_->size());
+  real alpha = problem_.LargestSafeStep(delta, 1);
+  bool accepted = false, corrected = false;
+  real trialEnergy = energy;
+  for (int k = 0; k <= newton.maxLineSearchSteps; ++k, alpha *= 0.5) {
+    problem_.ApplyIncrementFromSaved(delta, alpha);
+    trialEnergy = convergence_.Energy();
+    if (SufficientDecrease(energy, trialEnergy, alpha, slope, convergence_.Resolution())) {
+      accepted = true;
+      break;
+    }
+    // a rejected full step first tries its second-order correction
+    // (the curvature of constraints, docs/architecture.md)
+    if (k == 0 && alpha == 1 && problem_.HasSecondOrderCorrection() &&
+        SecondOrderCorrection(energy, slope, stats, trialEnergy)) {
+      accepted = corrected = true;
+      break;
+    }
+  }
+  if (!accepted) {
+    problem_.RestoreIterate();
+    return false;
+  }
+  // Expansion: a projected Hessian overestimates the curvature
+  // (H_p − H ⪰ 0). Where the full step decreased Eᵢ by more than 3/4 of the
+  // slope (1.5 × the decrease the model predicts, ½|∇E·δ|), the true
+  // curvature along δ is below half the model's or negative: near a saddle
+  // of a folding cloth the projected steps are then a small fraction of the
+  // way down and Newton crawls away from it by a constant factor per
+  // iteration (docs/architecture.md, measurements).
+  if (projected && !corrected && alpha == 1 && std::isfinite(trialEnergy) && trialEnergy < energy + 0.75 * slope)
+    alpha = Expand(trialEnergy, stats);
+  // the terms' force estimates follow the accepted step
+  if (corrected)
+    problem_.AcceptStep({Span<real const>(newtonStep_.data(), newtonStep_.size()), 1, true});
+  else
+    problem_.AcceptStep({delta, alpha, false});
+  energy = trialEnergy;
+  return true;
+}
+
+real LineSearch::Expand(real& trialEnergy, SceneStats& stats) {
+  Span<real const> const delta(delta_->data(), delta_->size());
+  real alpha = 1;
+  for (int k = 0; k < kMaxExpansions; ++k) {
+    if (problem_.LargestSafeStep(delta, 2 * alpha) < 2 * alpha) break;
+    problem_.ApplyIncrementFromSaved(delta, 2 * alpha);
+    real const expandedEnergy = convergence_.Energy();
+    if (!(expandedEnergy < trialEnergy)) break;
+    alpha *= 2;
+    trialEnergy = expandedEnergy;
+  }
+  problem_.ApplyIncrementFromSaved(delta, alpha);
+  if (alpha > 1) ++stats.lineSearchExpansions;
+  return alpha;
+}
+
+bool LineSearch::SecondOrderCorrection(real energy, real slope, SceneStats& stats, real& trialEnergy) {
+  // the actors are at q + δ, δ in delta_; each correction's right-hand side
+  // goes to gradient_ and its solution to delta_
+  newtonStep_ = *delta_;
+  correctedStep_ = *delta_;
+  Span<real const> const step(newtonStep_.data(), newtonStep_.size());
+  Span<real> const gradient(gradient_->data(), gradient_->size());
+  Span<real const> const corrected(correctedStep_.data(), correctedStep_.size());
+  real previousEnergy = trialEnergy;
+  for (int c = 0; c < kMaxCorrections; ++c) {
+    gradient_->setZero();
+    problem_.AddCorrectionForce(step, gradient);
+    if (!linear_.SolveWithCurrentMatrix(stats).Ok()) break;
+    correctedStep_ += *delta_;
+    if (problem_.LargestSafeStep(corrected, 1) < 1) break;
+    problem_.ApplyIncrementFromSaved(corrected, 1);
+    real const correctedEnergy = convergence_.Energy();
+    if (SufficientDecrease(energy, correctedEnergy, 1, slope, convergence_.Resolution())) {
+      trialEnergy = correctedEnergy;
+      ++stats.secondOrderCorrections;
+      newtonStep_ = *delta_;  // the last δc
+      *delta_ = correctedStep_;
+      return true;
+    }
+    if (!(correctedEnergy < previousEnergy)) break;
+    previousEnergy = correctedEnergy;
+  }
+  *delta_ = newtonStep_;
+  return false;
+}
+
+}  // namespace superdex::internal

@@ -1,0 +1,62 @@
+// LineSearch: how far Newton moves along its step δ (docs/architecture.md,
+// "Newton"). Backtracking (halving) from the largest safe step with Armijo's
+// sufficient decrease on Eᵢ plus a round-off allowance; a rejected full step
+// first tries a second-order correction (terms with curvature: constraints);
+// a projected step on a concave ray is lengthened while Eᵢ keeps falling.
+//
+// The safe-step hook: every trial step is bounded by StageTerm::
+// LargestSafeStep over the terms (collision detection will answer it, so
+// that no trial configuration lets surfaces pass through each other); terms
+// that do not bound it leave every trial as it was.
+#pragma once
+
+#include <superdex/solver/convergence_test.h>
+#include <superdex/solver/linear_step.h>
+#include <superdex/solver/stage_problem.h>
+
+namespace superdex {
+struct NewtonParams;
+struct SceneStats;
+}  // namespace superdex
+
+namespace superdex::internal {
+
+class LineSearch {
+ public:
+  LineSearch(StageProblem& problem, ConvergenceTest& convergence, LinearStep& linear)
+      : problem_(problem), convergence_(convergence), linear_(linear) {}
+  /// The Newton solver's gradient and step (a second-order correction uses
+  /// both: its right-hand side in the gradient, its solves in the step).
+  void Bind(VectorX* gradient, VectorX* delta) {
+    gradient_ = gradient;
+    delta_ = delta;
+  }
+  /// At a pattern build.
+  void Reserve(int numDofs);
+
+  /// Takes a converged step whole (at most the safe step).
+  void TakeWhole();
+  /// From the saved iterate along δ with slope ∇E·δ < 0 at energy E: moves to
+  /// the accepted point and sets `energy` to Eᵢ there (the terms are told:
+  /// StageTerm::AcceptStep). False, with the iterate restored, when no step
+  /// decreases Eᵢ within NewtonParams::maxLineSearchSteps halvings.
+  bool Search(NewtonParams const& newton, bool projected, real slope, real& energy, SceneStats& stats);
+
+ private:
+  /// The actors at q + δ, E(q + δ) rejected: tries q + δ + Σ δc, each δc
+  /// solving H δc = −Σ Jᵀ (f(g(q + d)) − f(g + J δ)) with the factorization
+  /// of H (a chord iteration back to the linearized constraint values). On
+  /// success δ holds d and newtonStep_ the last δc.
+  bool SecondOrderCorrection(real energy, real slope, SceneStats& stats, real& trialEnergy);
+  /// Doubles a projected full step while each doubling decreases Eᵢ further.
+  real Expand(real& trialEnergy, SceneStats& stats);
+
+  StageProblem& problem_;
+  ConvergenceTest& convergence_;
+  LinearStep& linear_;
+  VectorX* gradient_ = nullptr;
+  VectorX* delta_ = nullptr;
+  VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction
+};
+
+}  // namespace superdex::internal

@@ -1,0 +1,235 @@
+#include <superdex/solver/newton_solver.h>
+
+#include <chrono>
+#include <cmath>
+
+#include <superdex/core/validate.h>
+#include <superdex/linsolve/petsc_distributed_matrix.h>
+
+namespace superdex::internal {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string Where(int stageIndex, int iteration) {
+  return "stage " + std::to_string(stageIndex) + ", Newton iteration " + std::to_string(iteration);
+}
+
+bool Fail(ErrorCode code, int stageIndex, int iteration, std::string const& why, Error& error) {
+  error.Set(code, Where(stageIndex, iteration) + ": " + why);
+  return false;
+}
+}  // namespace
+
+NewtonSolver::NewtonSolver()
+    : linear_(assembler_, ownBlocks_, ranks_),
+      convergence_(problem_, assembler_, ranks_),
+      lineSearch_(problem_, convergence_, linear_) {
+  linear_.Bind(&gradient_, &delta_);
+  linear_.SetExecutor(&executor_);
+  lineSearch_.Bind(&gradient_, &delta_);
+}
+
+void NewtonSolver::SetCommunicator(Communicator const& communicator) {
+  ranks_.Set(communicator);
+  linear_.ResetBackend();
+}
+
+void NewtonSolver::SetNumThreads(int numThreads) {
+  executor_.SetNumThreads(numThreads);
+  assembler_.SetExecutor(&executor_);
+  problem_.ReserveThreads(executor_.GetNumThreads());
+}
+
+bool NewtonSolver::Analyze(DynamicArray<StageDofs*> dofs, DynamicArray<StageTerm*> terms, OrderingMethod ordering,
+                           SceneStats& stats, Error& error) {
+  problem_.Set(std::move(dofs), std::move(terms));
+  DynamicArray<StageTerm*> const& all = problem_.GetTerms();
+  // the stencils of the terms without an own block decide which own blocks
+  // stay on and what they take in; then the own blocks' stencils
+  ownBlocks_.Reset(problem_, ranks_.IsDistributed());
+  DynamicArray<DynamicArray<DynamicArray<int>>> termDofs(all.size());
+  for (std::size_t t = 0; t < all.size(); ++t)
+    if (!all[t]->GetOwnBlockSolve()) all[t]->AppendContributorDofs(termDofs[t]);
+  ownBlocks_.Choose(problem_, termDofs);
+  for (std::size_t t = 0; t < all.size(); ++t)
+    if (all[t]->GetOwnBlockSolve()) all[t]->AppendContributorDofs(termDofs[t]);
+  DynamicArray<int> blockSizes;
+  DynamicArray<DynamicArray<int>> contributorDofs;
+  problem_.FlattenPattern(termDofs, blockSizes, contributorDofs);
+  int const numDofs = problem_.GetNumDofs();
+  if (!assembler_.Analyze(numDofs, blockSizes, contributorDofs, ordering, error, ranks_.GetSize(), ranks_.GetRank()))
+    return false;
+  ownBlocks_.Prepare(problem_, ranks_.IsDistributed());
+  problem_.ReserveThreads(executor_.GetNumThreads());
+  ranks_.Reserve(numDofs);
+  gradient_.setZero(numDofs);
+  delta_.setZero(numDofs);
+  dofInverseMasses_.setZero(numDofs);
+  convergence_.Reserve(numDofs);
+  lineSearch_.Reserve(numDofs);
+  // the whole pattern's entries: each rank stores only its part of it
+  std::int64_t hessianNonzeros = assembler_.CountOwnedColumnEntries();
+  if (ranks_.IsDistributed()) {
+    real count[1] = {static_cast<real>(hessianNonzeros)};  // exact below 2⁵³
+    ranks_.SumInRankOrder(count);
+    hessianNonzeros = static_cast<std::int64_t>(count[0]);
+  }
+  linear_.Reserve(numDofs, ordering, hessianNonzeros);
+  stats.patternBuilds = assembler_.GetNumPatternBuilds();
+  stats.numDofs = numDofs;
+  stats.ranks = ranks_.GetSize();
+  stats.ownedDofs = assembler_.GetOwnedRowEnd() - assembler_.GetOwnedRowBegin();
+  stats.hessianNonzeros = hessianNonzeros;
+  return true;
+}
+
+void NewtonSolver::BeginStage(StageContext& stage, NewtonParams const& newton) {
+  // terms first, at the committed configuration (the near-rigid cap reads
+  // the inverse masses there), then the first iterates
+  stage.inverseMasses = Span<real const>(dofInverseMasses_.data(), dofInverseMasses_.size());
+  if (newton.nearRigidBeta > 0)
+    problem_.WriteDofInverseMasses(Span<real>(dofInverseMasses_.data(), dofInverseMasses_.size()));
+  stage.nearRigidBeta = newton.nearRigidBeta;
+  stage.constraintHessian = newton.constraintHessian;
+  problem_.BeginStage(stage);
+  real const h = stage.coefficients.duration;
+  convergence_.BeginStage(newton.velocityTolerance, h);
+  linear_.BeginStage(convergence_.GetLengthScales(), newton, h);
+}
+
+bool NewtonSolver::Solve(int stageIndex, StageContext stage, NewtonParams const& newton, SceneStats& stats,
+                         Error& error) {
+  if (!linear_.Prepare(problem_, stats, error)) return false;
+  BeginStage(stage, newton);
+  real energy = convergence_.Energy();
+  if (!std::isfinite(energy))
+    return Fail(ErrorCode::NonFiniteState, stageIndex, 0, "the incremental potential is not finite at the stage start",
+                error);
+  real lastStepNorm = 0;
+  int const truncatedBefore = stats.truncatedSolves;
+  for (int iteration = 1; iteration <= newton.maxIterations; ++iteration) {
+    ++stats.newtonIterations;
+    // the step: H δ = −∇E (projected where the exact H is indefinite)
+    LinearSolveResult result;
+    bool projected = false;
+    if (!ComputeStep(stageIndex, iteration, newton, stats, result, projected, error)) return false;
+    bool truncated = linear_.TakeTruncated(result, stats);
+    if (!result.Ok() && !truncated) return LinearSolverFailed(stageIndex, iteration, result, error);
+
+    // judge it; a step from a looser solve that looks converged is resumed
+    // at the full tolerance first (a truncated one never ends Newton)
+    real const resolution = convergence_.Resolution();
+    ConvergenceTest::Verdict verdict;
+    auto const judge = [&] {
+      verdict = convergence_.Judge(gradient_, delta_, resolution);
+      lastStepNorm = verdict.stepNorm;
+      return verdict.Converged();
+    };
+    bool keepGoing = false;
+    if (!linear_.Refine(judge, newton, result, truncated, keepGoing, stats))
+      return LinearSolverFailed(stageIndex, iteration, result, error);
+    if (!std::isfinite(verdict.stepNorm))
+      return Fail(ErrorCode::NonFiniteState, stageIndex, iteration, "the Newton step is not finite", error);
+    bool const converged = !keepGoing && !truncated && verdict.Converged();
+    if (converged && !verdict.stepConverged) ++stats.roundOffConvergences;
+
+    // move: a converged step whole, any other along the line search
+    auto const start = Clock::now();
+    problem_.SaveIterate();
+    if (converged) {
+      lineSearch_.TakeWhole();
+    } else {
+      real const before = energy;
+      if (!lineSearch_.Search(newton, projected, verdict.slope, energy, stats)) {
+        stats.lineSearchSeconds += SecondsSince(start);
+        return Fail(ErrorCode::NewtonFailed, stageIndex, iteration,
+                    "line search found no decrease of the incremental potential after " +
+                        std::to_string(newton.maxLineSearchSteps) + " halvings (step norm " +
+                        Format(verdict.stepNorm) + ", gradient norm " + Format(stats.gradientNorm) + ")",
+                    error);
+      }
+      convergence_.RecordChange(before, energy, resolution);
+    }
+    stats.lineSearchSeconds += SecondsSince(start);
+    if (!problem_.IsStateFinite())
+      return Fail(ErrorCode::NonFiniteState, stageIndex, iteration, "the configuration is not finite", error);
+    if (converged) {
+      problem_.EndStage();
+      return true;
+    }
+  }
+  std::string truncation;
+  if (int const stageTruncated = stats.truncatedSolves - truncatedBefore; stageTruncated > 0)
+    truncation = "; " + std::to_string(stageTruncated) + " linear solves stopped at the PCG cap of " +
+                 std::to_string(linear_.GetPcg().maxIterations) + " iterations (PcgParams::maxIterations)";
+  return Fail(ErrorCode::NewtonFailed, stageIndex, newton.maxIterations,
+              "Newton did not converge within " + std::to_string(newton.maxIterations) + " iterations (gradient norm " +
+                  Format(stats.gradientNorm) + ", tolerance " + Format(newton.velocityTolerance) +
+                  " on the velocity-scaled step, last step " + Format(lastStepNorm) + ")" + truncation,
+              error);
+}
+
+bool NewtonSolver::ComputeStep(int stageIndex, int iteration, NewtonParams const& newton, SceneStats& stats,
+                               LinearSolveResult& result, bool& projected, Error& error) {
+  // With exact element Hessians, a matrix that is not positive definite, or
+  // a step that is not a descent direction, sends this iteration once more
+  // through assembly with projected Hessians; the next iteration tries the
+  // exact ones again (at a minimum the exact Hessian is positive
+  // semi-definite, so near convergence Newton is quadratic again).
+  bool project = newton.hessianProjection == HessianProjection::Always;
+  bool separateCouplings = false;  ///< own blocks modified apart from their couplings (last resort)
+  Span<real> const gradient(gradient_.data(), gradient_.size());
+  for (bool first = true;; first = false) {
+    auto const start = Clock::now();
+    problem_.Assemble(assembler_, gradient, AssemblyOptions{project});
+    // across ranks each rank's owned entries of ∇E are complete: every rank
+    // then holds all of ∇E, and the tests below agree on every rank
+    if (ranks_.IsDistributed()) ranks_.GatherGradient(assembler_, gradient);
+    stats.assemblySeconds += SecondsSince(start);
+    stats.gradientNorm = gradient_.lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(stats.gradientNorm))
+      return Fail(ErrorCode::NonFiniteState, stageIndex, iteration, "the gradient is not finite", error);
+    if (first) linear_.BeginIteration(iteration, gradient_.norm(), newton);
+    result = linear_.Solve(project, separateCouplings, newton, stats);
+    bool const notDescent = linear_.Usable(result) && !(gradient_.dot(delta_) < 0);
+    bool const indefinite = result.status == LinearSolveStatus::NotPositiveDefinite || notDescent;
+    // an own block coupled with other DoFs whose modified sum left the Schur
+    // complement indefinite: once more, the block modified apart from its
+    // couplings (positive definite with projected couplings)
+    if (project && indefinite && ownBlocks_.IsCoupled() && !linear_.OwnBlocksFailed() && !separateCouplings) {
+      separateCouplings = true;
+      ++stats.separateCouplingRetries;
+      continue;
+    }
+    if (project || !indefinite) break;
+    project = true;
+    ++stats.projectionFallbacks;
+  }
+  // A projected matrix is positive semi-definite in exact arithmetic but can
+  // fail the factorization by round-off (the articulated chain of 500 links
+  // at dt = 1/240: a modified-Cholesky block at a condition number near 1e13)
+  if (project) result = linear_.ShiftDiagonal(std::move(result), stats);
+  if (fault_.failLinearSolveAtIteration == iteration && result.Ok()) {
+    result.status = LinearSolveStatus::BackendError;
+    result.reason = "failure injected by a test";
+  }
+  // (a backend's results agree across ranks; a test's fault may not)
+  if (ranks_.IsDistributed()) result = AgreeOnResult(ranks_.GetCommunicator(), std::move(result));
+  projected = project;
+  return true;
+}
+
+bool NewtonSolver::LinearSolverFailed(int stageIndex, int iteration, LinearSolveResult const& failed,
+                                      Error& error) const {
+  std::string detail = failed.reason;
+  if (failed.status == LinearSolveStatus::NotPositiveDefinite && failed.failingColumn >= 0)
+    detail = "matrix not positive definite at column " + std::to_string(failed.failingColumn);
+  return Fail(ErrorCode::LinearSolverFailed, stageIndex, iteration,
+              "linear solver " + linear_.GetBackend()->GetDescription() + " failed (" +
+                  std::string(ToString(failed.status)) + "): " + detail,
+              error);
+}
+
+}  // namespace superdex::internal

@@ -1,0 +1,81 @@
+// SceneStats: what the scene counts since its creation and measures in its
+// last step (Scene::GetStats); the Newton solver fills most of it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <superdex/core/types.h>
+
+namespace superdex {
+
+/// Counters since the scene was created, and figures of the last step.
+struct SceneStats {
+  std::int64_t steps = 0;             ///< successful steps
+  std::int64_t patternBuilds = 0;     ///< Hessian pattern + ordering + slot tables built
+  std::int64_t symbolicAnalyses = 0;  ///< linear-solver symbolic analyses
+  /// External solver objects created (PETSc Mat + KSP: once per pattern the
+  /// PCG backend analyzes); 0 for CHOLMOD and dense.
+  std::int64_t linearSolverObjectBuilds = 0;
+  /// Successful steps that needed sub-stepping (SubstepParams): their
+  /// attempt at the full dt failed.
+  std::int64_t substeppedSteps = 0;
+
+  // last step (the figures below add up every attempt of a sub-stepped
+  // step, failed attempts included: they are what the step cost)
+  /// Sub-steps of the last step's last attempt: 1 for a step taken whole,
+  /// k for one taken as k sub-steps of dt/k (0 before the first step).
+  int substeps = 0;
+  int newtonIterations = 0;
+  int linearIterations = 0;        ///< CG iterations: PCG, and direct solvers' reused-factor solves
+  int projectionFallbacks = 0;     ///< Newton iterations re-assembled with projected Hessians
+  /// Projected Newton iterations re-assembled once more with the articulated
+  /// actors' blocks modified apart from their couplings with other bodies
+  /// (the Schur complement of the modified sum was not positive definite)
+  int separateCouplingRetries = 0;
+  /// Refactorizations of a projected Hessian that failed by round-off, with
+  /// its diagonal shifted (1e-8 |Hⱼⱼ|, then ×100 up to 1e-2)
+  int diagonalShifts = 0;
+  int roundOffConvergences = 0;    ///< stages that converged on a Newton decrement at the
+                                   ///< round-off floor of Eᵢ, not on the step norm
+  /// Newton iterations whose projected step the line search lengthened
+  /// (doubled while Eᵢ kept falling along a concave ray: near a saddle)
+  int lineSearchExpansions = 0;
+  /// Newton iterations whose full step the line search took with a
+  /// second-order correction for the constraints' curvature
+  int secondOrderCorrections = 0;
+  /// PCG solves stopped at PcgParams::maxIterations that Newton took as
+  /// inexact steps (PcgParams::truncatedSteps)
+  int truncatedSolves = 0;
+  /// Numeric factorizations (direct solvers) or preconditioner set-ups
+  /// (PCG), every retry included
+  int factorizations = 0;
+  /// Newton systems solved by CG with a reused factorization as the
+  /// preconditioner (NewtonParams::reuseFactorization), without factorizing
+  int reusedFactorSolves = 0;
+  /// Of those, the ones that applied the factor from its single-precision
+  /// copy (NewtonParams::singlePrecisionReusedFactor)
+  int singlePrecisionSolves = 0;
+  int linearSolves = 0;            ///< linear solves (one per Newton iteration, plus
+                                   ///< inexact-Newton re-solves and second-order corrections)
+  /// Constraints whose k and d the near-rigid cap (NewtonParams::
+  /// nearRigidBeta) lowered: the most in any stage of the last step.
+  int nearRigidConstraints = 0;
+  real gradientNorm = 0;           ///< ‖∇E‖∞ at the last Newton iteration
+  int numDofs = 0;
+  int ranks = 1;      ///< MPI ranks of SceneParams::communicator
+  int ownedDofs = 0;  ///< DoFs (Hessian rows) this rank owns: numDofs on one rank
+  std::int64_t hessianNonzeros = 0;  ///< upper-triangle entries of the whole Hessian (on several ranks each stores its part)
+  double factorNonzeros = 0;         ///< nnz(L) as the solver reports it
+  double factorFlops = 0;
+  std::string linearSolver;          ///< what ran, as the backend reports it
+  // time of each phase of the last step [s]
+  double analysisSeconds = 0;        ///< pattern build + symbolic analysis
+  double assemblySeconds = 0;
+  double factorizationSeconds = 0;  ///< numeric factorization, or PCG's value update + PC set-up
+  double solveSeconds = 0;
+  double lineSearchSeconds = 0;
+  double stepSeconds = 0;
+};
+
+}  // namespace superdex
