@@ -1,10 +1,14 @@
 #include <superdex/assembly/hessian_assembler.h>
 
 #include <algorithm>
+#include <chrono>
 
 namespace superdex::internal {
 
 namespace {
+using Clock = std::chrono::steady_clock;
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
 // Global version counter, so that patterns of different assemblers (and
 // successive builds of one) never share a version.
 std::uint64_t NextPatternVersion() {
@@ -21,6 +25,8 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
                                               std::to_string(numParts) + " parts does not exist");
     return false;
   }
+  AnalysisTimes times;
+  auto const orderingStart = Clock::now();
   // map DoFs to blocks and check the partition
   DynamicArray<int> dofToBlock(numDofs, -1);
   DynamicArray<int> blockStart(blockSizes.size() + 1, 0);
@@ -34,17 +40,8 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
                                             " DoFs, expected " + std::to_string(numDofs));
     return false;
   }
-  for (auto const& dofs : contributorDofs) {
-    for (std::size_t i = 0; i < dofs.size(); ++i) {
-      if (dofs[i] < 0 || dofs[i] >= numDofs ||
-          std::find(dofs.begin() + i + 1, dofs.end(), dofs[i]) != dofs.end()) {
-        error.Set(ErrorCode::InvalidState,
-                  "contributor DoF list holds an out-of-range or repeated DoF " +
-                      std::to_string(dofs[i]));
-        return false;
-      }
-    }
-  }
+  for (auto const& dofs : contributorDofs)
+    if (!CheckDofList(dofs, numDofs, error)) return false;
 
   // order the blocks, expand to a scalar permutation
   BlockGraph graph = BuildBlockGraph(blockSizes, dofToBlock, contributorDofs);
@@ -67,9 +64,12 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
     for (int d = blockStart[block]; d < blockStart[block + 1]; ++d) permutation[d] = next++;
   }
   while (static_cast<int>(partRowStart.size()) <= numParts) partRowStart.push_back(next);
+  times.orderingSeconds = SecondsSince(orderingStart);
 
   // the contributors this part evaluates (one of its DoFs owned) and owns
-  // (its first DoF owned; part 0 owns those without DoFs)
+  // (its first DoF owned; part 0 owns those without DoFs). In one part every
+  // contributor with DoFs is evaluated; one without (a term an own-block
+  // solve took in) is not.
   bool const divided = numParts > 1;
   int const rowBegin = partRowStart[part], rowEnd = partRowStart[part + 1];
   DynamicArray<std::uint8_t> evaluated, owned;
@@ -84,15 +84,62 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
       evaluated[c] = std::any_of(dofs.begin(), dofs.end(), isOwned);
       owned[c] = dofs.empty() ? part == 0 : isOwned(dofs[0]);
     }
+  } else if (std::any_of(contributorDofs.begin(), contributorDofs.end(), [](auto const& d) { return d.empty(); })) {
+    evaluated.resize(contributorDofs.size());
+    for (std::size_t c = 0; c < contributorDofs.size(); ++c) evaluated[c] = !contributorDofs[c].empty();
   }
 
+  Pattern pattern;
+  pattern.permutation = std::move(permutation);
+  pattern.partRowStart = std::move(partRowStart);
+  pattern.part = part;
+  pattern.divided = divided;
+  for (int block : blockOrder) pattern.orderedBlockSizes.push_back(blockSizes[block]);
+  BuildPattern(contributorDofs, evaluated, {}, blockStart, pattern, times);
+
+  // commit
+  evaluated_ = std::move(evaluated);
+  owned_ = std::move(owned);
+  blockStart_ = std::move(blockStart);
+  dofToBlock_ = std::move(dofToBlock);
+  orderedBlockSizes_ = std::move(pattern.orderedBlockSizes);
+  reserved_.clear();
+  reservedSinceOrdering_ = 0;
+  orderedBlockPairs_ = static_cast<std::int64_t>(graph.adjacency.size() / 2 + blockSizes.size());
+  dynamicStage_ = 0;
+  ClearDynamicContributors();
+  Commit(pattern, times);
+  ++numBuilds_;
+  return true;
+}
+
+bool HessianAssembler::CheckDofList(DynamicArray<int> const& dofs, int numDofs, Error& error) {
+  for (std::size_t i = 0; i < dofs.size(); ++i) {
+    if (dofs[i] < 0 || dofs[i] >= numDofs || std::find(dofs.begin() + i + 1, dofs.end(), dofs[i]) != dofs.end()) {
+      error.Set(ErrorCode::InvalidState,
+                "contributor DoF list holds an out-of-range or repeated DoF " + std::to_string(dofs[i]));
+      return false;
+    }
+  }
+  return true;
+}
+
+void HessianAssembler::BuildPattern(DynamicArray<DynamicArray<int>> const& contributorDofs,
+                                    DynamicArray<std::uint8_t> const& evaluated,
+                                    DynamicArray<std::uint64_t> const& extraBlockPairs,
+                                    DynamicArray<int> const& blockStart, Pattern& out, AnalysisTimes& times) const {
+  auto const patternStart = Clock::now();
+  int const numDofs = static_cast<int>(out.permutation.size());
+  DynamicArray<int> const& permutation = out.permutation;
+  bool const divided = out.divided;
+  int const rowBegin = out.partRowStart[out.part], rowEnd = out.partRowStart[out.part + 1];
   // upper-triangle pattern of P H Pᵀ: rows per column, sorted and unique.
   // On one part of several only the entries with an owned row or column
   // (and every diagonal), from the contributors the part evaluates.
   auto const stored = [&](int row, int col) {
     return !divided || (row >= rowBegin && row < rowEnd) || (col >= rowBegin && col < rowEnd);
   };
-  auto const assembled = [&](std::size_t c) { return !divided || evaluated[c] != 0; };
+  auto const assembled = [&](std::size_t c) { return evaluated.empty() || evaluated[c] != 0; };
   // Rows per column in one flat array (count, then fill; a column per DoF
   // as separate arrays costs several times the pattern's memory at its
   // peak), then each column sorted and deduplicated in place.
@@ -106,6 +153,15 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
           if (pi <= pj && stored(pi, pj)) visit(pi, pj);
         }
     }
+    // the reserved block pairs of the second family (one part only)
+    for (std::uint64_t pair : extraBlockPairs) {
+      int const a = static_cast<int>(pair >> 32), b = static_cast<int>(pair & 0xffffffffu);
+      for (int i = blockStart[a]; i < blockStart[a + 1]; ++i)
+        for (int j = blockStart[b]; j < blockStart[b + 1]; ++j) {
+          int const pi = permutation[i], pj = permutation[j];
+          visit(std::min(pi, pj), std::max(pi, pj));
+        }
+    }
   };
   DynamicArray<std::int64_t> entryStart(numDofs + 1, 0);
   forEachEntry([&](int, int col) { ++entryStart[col + 1]; });
@@ -115,7 +171,7 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
     DynamicArray<std::int64_t> next(entryStart.begin(), entryStart.end() - 1);
     forEachEntry([&](int row, int col) { rows[next[col]++] = row; });
   }
-  SparseSymmetricMatrix matrix;
+  SparseSymmetricMatrix& matrix = out.matrix;
   matrix.size = numDofs;
   matrix.colStart.assign(numDofs + 1, 0);
   std::int64_t kept = 0;
@@ -129,56 +185,197 @@ bool HessianAssembler::Analyze(int numDofs, DynamicArray<int> const& blockSizes,
   matrix.rowIndex.assign(rows.begin(), rows.begin() + kept);
   DynamicArray<int>().swap(rows);
   matrix.values.assign(matrix.rowIndex.size(), 0);
-  matrix.blockSizes.reserve(blockOrder.size());
-  for (int block : blockOrder) matrix.blockSizes.push_back(blockSizes[block]);
+  matrix.blockSizes = out.orderedBlockSizes;
   matrix.patternVersion = NextPatternVersion();
+  times.patternSeconds += SecondsSince(patternStart);
 
   // DoF lists and slot table: local upper triangle (a <= b, row-major) →
   // value index, or −1 for an entry not stored; none for a contributor that
   // is not assembled here
-  DynamicArray<int> dofStart, dofList, slotStart, slots;
-  dofStart.reserve(contributorDofs.size() + 1);
-  slotStart.reserve(contributorDofs.size() + 1);
-  bool dropsEntries = false;
+  auto const slotStartTime = Clock::now();
+  out.dofStart.reserve(contributorDofs.size() + 1);
+  out.slotStart.reserve(contributorDofs.size() + 1);
+  out.dropsEntries = false;
   for (std::size_t c = 0; c < contributorDofs.size(); ++c) {
-    dofStart.push_back(static_cast<int>(dofList.size()));
-    slotStart.push_back(static_cast<int>(slots.size()));
+    out.dofStart.push_back(static_cast<int>(out.dofs.size()));
+    out.slotStart.push_back(static_cast<int>(out.slots.size()));
     if (!assembled(c)) continue;
     auto const& dofs = contributorDofs[c];
-    int const n = static_cast<int>(dofs.size());
-    dofList.insert(dofList.end(), dofs.begin(), dofs.end());
-    for (int a = 0; a < n; ++a)
-      for (int b = a; b < n; ++b) {
-        int const pa = permutation[dofs[a]], pb = permutation[dofs[b]];
-        int const row = std::min(pa, pb), col = std::max(pa, pb);
-        if (!stored(row, col)) {
-          slots.push_back(-1);
-          dropsEntries = true;
-          continue;
-        }
-        auto first = matrix.rowIndex.begin() + matrix.colStart[col];
-        auto last = matrix.rowIndex.begin() + matrix.colStart[col + 1];
-        slots.push_back(static_cast<int>(std::lower_bound(first, last, row) - matrix.rowIndex.begin()));
-      }
+    out.dofs.insert(out.dofs.end(), dofs.begin(), dofs.end());
+    AppendSlots(matrix, permutation, dofs, stored, out.slots, out.dropsEntries);
   }
-  dofStart.push_back(static_cast<int>(dofList.size()));
-  slotStart.push_back(static_cast<int>(slots.size()));
+  out.dofStart.push_back(static_cast<int>(out.dofs.size()));
+  out.slotStart.push_back(static_cast<int>(out.slots.size()));
+  times.slotTableSeconds += SecondsSince(slotStartTime);
+}
 
-  // commit
-  matrix_ = std::move(matrix);
-  permutation_ = std::move(permutation);
-  partRowStart_ = std::move(partRowStart);
-  part_ = part;
-  evaluated_ = std::move(evaluated);
-  owned_ = std::move(owned);
-  dofStart_ = std::move(dofStart);
-  dofs_ = std::move(dofList);
-  slotStart_ = std::move(slotStart);
-  slots_ = std::move(slots);
-  dropsEntries_ = dropsEntries;
+template <class Stored>
+void HessianAssembler::AppendSlots(SparseSymmetricMatrix const& matrix, DynamicArray<int> const& permutation,
+                                   DynamicArray<int> const& dofs, Stored const& stored, DynamicArray<int>& slots,
+                                   bool& dropsEntries) {
+  int const n = static_cast<int>(dofs.size());
+  for (int a = 0; a < n; ++a)
+    for (int b = a; b < n; ++b) {
+      int const pa = permutation[dofs[a]], pb = permutation[dofs[b]];
+      int const row = std::min(pa, pb), col = std::max(pa, pb);
+      if (!stored(row, col)) {
+        slots.push_back(-1);
+        dropsEntries = true;
+        continue;
+      }
+      auto first = matrix.rowIndex.begin() + matrix.colStart[col];
+      auto last = matrix.rowIndex.begin() + matrix.colStart[col + 1];
+      auto const found = std::lower_bound(first, last, row);
+      // (a missing entry: the second family's caller grows the pattern first)
+      slots.push_back(found != last && *found == row ? static_cast<int>(found - matrix.rowIndex.begin()) : -1);
+    }
+}
+
+void HessianAssembler::Commit(Pattern& pattern, AnalysisTimes& times) {
+  auto const start = Clock::now();
+  matrix_ = std::move(pattern.matrix);
+  permutation_ = std::move(pattern.permutation);
+  partRowStart_ = std::move(pattern.partRowStart);
+  part_ = pattern.part;
+  dofStart_ = std::move(pattern.dofStart);
+  dofs_ = std::move(pattern.dofs);
+  slotStart_ = std::move(pattern.slotStart);
+  slots_ = std::move(pattern.slots);
+  dropsEntries_ = pattern.dropsEntries;
   analyzed_ = true;
-  ++numBuilds_;
   PrepareStaging();
+  times.slotTableSeconds += SecondsSince(start);
+  lastTimes_ = times;
+}
+
+// ---- the second family ----
+
+void HessianAssembler::ClearDynamicContributors() {
+  dynamicDofStart_.assign(1, 0);
+  dynamicDofs_.clear();
+  dynamicSlotStart_.assign(1, 0);
+  dynamicSlots_.clear();
+  dynamicValueStage_.clear();
+  dynamicGradientStage_.clear();
+}
+
+namespace {
+std::uint64_t BlockPair(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+}
+}  // namespace
+
+bool HessianAssembler::SetDynamicContributors(DynamicArray<DynamicArray<int>> const& dofLists,
+                                              DynamicUpdate& update, Error& error, bool rebuildWhenChanged) {
+  update = DynamicUpdate{};
+  if (!analyzed_ || GetNumParts() != 1) {
+    error.Set(ErrorCode::InvalidState,
+              "contributors whose DoF lists change between stages need an analysed pattern in one process");
+    return false;
+  }
+  for (auto const& dofs : dofLists)
+    if (!CheckDofList(dofs, matrix_.size, error)) return false;
+  bool changed = false;
+  if (rebuildWhenChanged) {
+    // the same lists as the last stage's: nothing to do but zero stages
+    changed = static_cast<int>(dofLists.size()) != GetNumDynamicContributors();
+    for (std::size_t k = 0; !changed && k < dofLists.size(); ++k)
+      changed = !std::equal(dofLists[k].begin(), dofLists[k].end(), dynamicDofs_.begin() + dynamicDofStart_[k],
+                            dynamicDofs_.begin() + dynamicDofStart_[k + 1]);
+    if (changed) reserved_.clear();
+  }
+  // every block pair they use is (kept) reserved, stamped with this stage
+  ++dynamicStage_;
+  std::int64_t added = 0;
+  for (auto const& dofs : dofLists)
+    for (std::size_t i = 0; i < dofs.size(); ++i)
+      for (std::size_t j = i; j < dofs.size(); ++j) {
+        int const a = dofToBlock_[dofs[i]], b = dofToBlock_[dofs[j]];
+        bool const inserted = reserved_.insert_or_assign(BlockPair(a, b), dynamicStage_).second;
+        added += inserted && a != b;  // a new edge of the block graph (a block's own pair always is one)
+      }
+  // their slots; a missing entry makes the pattern grow
+  DynamicArray<int> slots;
+  bool dropsEntries = false;
+  auto const stored = [](int, int) { return true; };
+  dynamicDofStart_.assign(1, 0);
+  dynamicDofs_.clear();
+  for (auto const& dofs : dofLists) {
+    dynamicDofs_.insert(dynamicDofs_.end(), dofs.begin(), dofs.end());
+    dynamicDofStart_.push_back(static_cast<int>(dynamicDofs_.size()));
+    AppendSlots(matrix_, permutation_, dofs, stored, slots, dropsEntries);
+  }
+  if (changed || std::find(slots.begin(), slots.end(), -1) != slots.end()) {
+    reservedSinceOrdering_ += added;
+    if (!GrowPattern(update, changed, error)) return false;
+    slots.clear();
+    for (auto const& dofs : dofLists) AppendSlots(matrix_, permutation_, dofs, stored, slots, dropsEntries);
+  }
+  dynamicSlots_ = std::move(slots);
+  dynamicSlotStart_.assign(1, 0);
+  for (auto const& dofs : dofLists) {
+    int const n = static_cast<int>(dofs.size());
+    dynamicSlotStart_.push_back(dynamicSlotStart_.back() + n * (n + 1) / 2);
+  }
+  dynamicValueStage_.assign(dynamicSlots_.size(), 0);
+  dynamicGradientStage_.assign(dynamicDofs_.size(), 0);
+  return true;
+}
+
+bool HessianAssembler::GrowPattern(DynamicUpdate& update, bool reorder, Error& error) {
+  // the reserved pairs used in the last kReserveStages stages stay; older
+  // ones leave now, with the rebuild (hysteresis: a pair that comes and goes
+  // does not rebuild the pattern each time)
+  for (auto it = reserved_.begin(); it != reserved_.end();)
+    it = dynamicStage_ - it->second >= kReserveStages ? reserved_.erase(it) : std::next(it);
+  DynamicArray<std::uint64_t> pairs;
+  pairs.reserve(reserved_.size());
+  for (auto const& [pair, stage] : reserved_) pairs.push_back(pair);
+  std::sort(pairs.begin(), pairs.end());
+  // the static contributors' lists, as analysed
+  int const numContributors = GetNumContributors();
+  DynamicArray<DynamicArray<int>> contributorDofs(numContributors);
+  for (int c = 0; c < numContributors; ++c)
+    contributorDofs[c].assign(dofs_.begin() + dofStart_[c], dofs_.begin() + dofStart_[c + 1]);
+  AnalysisTimes times;
+  Pattern pattern;
+  pattern.part = 0;
+  pattern.divided = false;
+  pattern.partRowStart = partRowStart_;
+  pattern.orderedBlockSizes = orderedBlockSizes_;
+  if (reorder || reservedSinceOrdering_ > kReorderFraction * orderedBlockPairs_) {
+    // the pairs added since the last ordering are many: order again, the
+    // reserved pairs as edges of the block graph
+    auto const orderingStart = Clock::now();
+    DynamicArray<DynamicArray<int>> withPairs = contributorDofs;
+    for (std::uint64_t pair : pairs)
+      withPairs.push_back({blockStart_[static_cast<int>(pair >> 32)], blockStart_[static_cast<int>(pair & 0xffffffffu)]});
+    DynamicArray<int> blockSizes(blockStart_.size() - 1);
+    for (std::size_t b = 0; b + 1 < blockStart_.size(); ++b) blockSizes[b] = blockStart_[b + 1] - blockStart_[b];
+    BlockGraph const graph = BuildBlockGraph(blockSizes, dofToBlock_, withPairs);
+    DynamicArray<int> blockOrder;
+    if (!OrderBlocks(graph, OrderingMethod::Metis, blockOrder, error)) return false;
+    pattern.permutation.resize(matrix_.size);
+    int next = 0;
+    pattern.orderedBlockSizes.clear();
+    for (int block : blockOrder) {
+      pattern.orderedBlockSizes.push_back(blockSizes[block]);
+      for (int d = blockStart_[block]; d < blockStart_[block + 1]; ++d) pattern.permutation[d] = next++;
+    }
+    orderedBlockPairs_ = static_cast<std::int64_t>(graph.adjacency.size() / 2 + blockSizes.size());
+    reservedSinceOrdering_ = 0;
+    times.orderingSeconds = SecondsSince(orderingStart);
+    update.reordered = true;
+    ++numBuilds_;
+  } else {
+    pattern.permutation = permutation_;  // the fill-reducing order is kept
+    ++numGrowths_;
+  }
+  BuildPattern(contributorDofs, evaluated_, pairs, blockStart_, pattern, times);
+  orderedBlockSizes_ = pattern.orderedBlockSizes;
+  Commit(pattern, times);
+  update.grew = true;
   return true;
 }
 
@@ -231,6 +428,8 @@ void HessianAssembler::PrepareStaging() {
 
 void HessianAssembler::BeginAssembly(Span<real> gradient) {
   gradient_ = gradient;
+  std::fill(dynamicValueStage_.begin(), dynamicValueStage_.end(), real(0));
+  std::fill(dynamicGradientStage_.begin(), dynamicGradientStage_.end(), real(0));
   if (!staged_) {
     std::fill(gradient.begin(), gradient.end(), real(0));
     ZeroValues();
@@ -246,6 +445,14 @@ void HessianAssembler::BeginAssembly(Span<real> gradient) {
 }
 
 void HessianAssembler::FinishAssembly() {
+  FinishStaticAssembly();
+  // the second family after every static contributor, in its order (both
+  // paths: the same sums for any thread count)
+  for (std::size_t k = 0; k < dynamicSlots_.size(); ++k) matrix_.values[dynamicSlots_[k]] += dynamicValueStage_[k];
+  for (std::size_t k = 0; k < dynamicDofs_.size(); ++k) gradient_[dynamicDofs_[k]] += dynamicGradientStage_[k];
+}
+
+void HessianAssembler::FinishStaticAssembly() {
   if (!staged_) return;
   // contributors that added nothing in this assembly contribute zeros
   int const numContributors = GetNumContributors();

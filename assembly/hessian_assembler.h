@@ -20,11 +20,23 @@
 // Contract: each contributor adds at most one gradient and one block per
 // assembly (a second call would be summed in another order when staged).
 //
+// A second family of contributors, whose DoF lists change between stages
+// (contact pairs), is set at each stage start (SetDynamicContributors). The
+// block pairs they use are reserved in the pattern and kept there while they
+// are used (with hysteresis: a pair leaves only kReserveStages stages after
+// its last use, at a rebuild). Where one needs an entry the pattern lacks,
+// the pattern grows: rebuilt with the fill-reducing order kept (no METIS),
+// or ordered again once the pairs added since the last ordering are many
+// (kReorderFraction of the block graph). Their contributions are staged and
+// added after every static contributor's, in their order, whatever the
+// thread count.
+//
 // Gradients stay in natural DoF order; PermuteToOrdered/PermuteToNatural map
 // vectors between the two orders around the linear solve.
 #pragma once
 
 #include <cstdint>
+#include <unordered_map>
 
 #include <superdex/assembly/ordering.h>
 #include <superdex/assembly/owned_contributors.h>
@@ -39,6 +51,15 @@ namespace superdex::internal {
 /// (~1–10 µs each), and node inertia blocks (~10 ns each)
 inline constexpr int kElementGrain = 64;
 inline constexpr int kNodeGrain = 2048;
+
+/// Where a pattern build's time went [s]: the block graph and its
+/// fill-reducing ordering (METIS), the CSC pattern, and the slot tables
+/// (with the staging maps of a threaded assembly).
+struct AnalysisTimes {
+  double orderingSeconds = 0;
+  double patternSeconds = 0;
+  double slotTableSeconds = 0;
+};
 
 class HessianAssembler {
  public:
@@ -62,6 +83,53 @@ class HessianAssembler {
                Error& error, int numParts = 1, int part = 0);
 
   bool IsAnalyzed() const { return analyzed_; }
+  /// The split of the last pattern build (Analyze, or a growth).
+  AnalysisTimes const& GetLastAnalysisTimes() const { return lastTimes_; }
+
+  // ---- the second family: contributors whose DoF lists change between stages ----
+  /// A reserved block pair leaves the pattern only at a rebuild this many
+  /// stages after its last use.
+  static constexpr std::int64_t kReserveStages = 32;
+  /// The pattern is ordered again (METIS) when the pairs of two blocks
+  /// reserved since the last ordering exceed this fraction of the ordered
+  /// block graph's pairs (its edges and blocks); until then it grows in the
+  /// kept order.
+  static constexpr double kReorderFraction = 0.25;
+  struct DynamicUpdate {
+    bool grew = false;       ///< the pattern was rebuilt (new pattern version)
+    bool reordered = false;  ///< ... with a new fill-reducing order
+  };
+  /// Sets the second family for the coming stage (after Analyze, in one
+  /// part): contributor k's DoF list dofLists[k] (distinct DoFs). Their
+  /// block pairs are reserved; where an entry is missing, the pattern grows.
+  /// False (nothing changed but the reserved stamps) on a bad DoF list.
+  /// With `rebuildWhenChanged` (the policy of re-analysing whenever the
+  /// pairs change, for comparisons): no reserve; a set of DoF lists that
+  /// differs from the last stage's rebuilds and orders the pattern anew for
+  /// exactly these.
+  bool SetDynamicContributors(DynamicArray<DynamicArray<int>> const& dofLists, DynamicUpdate& update, Error& error,
+                              bool rebuildWhenChanged = false);
+  int GetNumDynamicContributors() const { return static_cast<int>(dynamicDofStart_.size()) - 1; }
+  /// Pattern rebuilds that kept the fill-reducing order (the second family's
+  /// pairs grew), since construction.
+  std::int64_t GetNumPatternGrowths() const { return numGrowths_; }
+  /// Block pairs reserved for the second family.
+  std::size_t GetNumReservedPairs() const { return reserved_.size(); }
+  /// Adds the local gradient and the symmetric block of dynamic contributor
+  /// k (as AddGradient and AddBlock); safe to call concurrently for
+  /// different k; at most one of each per assembly.
+  template <class Derived>
+  void AddDynamicGradient(int k, Eigen::MatrixBase<Derived> const& g) {
+    int const first = dynamicDofStart_[k], n = dynamicDofStart_[k + 1] - first;
+    for (int a = 0; a < n; ++a) dynamicGradientStage_[first + a] = g[a];
+  }
+  template <class Derived>
+  void AddDynamicBlock(int k, Eigen::MatrixBase<Derived> const& h) {
+    int const n = dynamicDofStart_[k + 1] - dynamicDofStart_[k];
+    real* out = dynamicValueStage_.data() + dynamicSlotStart_[k];
+    for (int a = 0; a < n; ++a)
+      for (int b = a; b < n; ++b) *out++ = h(a, b);
+  }
   int GetNumDofs() const { return matrix_.size; }
   /// Stored entries in the owned columns: the whole pattern's count on one
   /// part; summed over the parts, the whole pattern's (each entry (i, j),
@@ -101,7 +169,8 @@ class HessianAssembler {
   /// Starts an assembly into `gradient` (natural order, GetNumDofs()
   /// entries): zeroes it and the matrix values.
   void BeginAssembly(Span<real> gradient);
-  /// Completes an assembly (staged: sums the contributions; serial: nothing).
+  /// Completes an assembly (staged: sums the contributions; serial: nothing
+  /// more), then adds the second family's.
   void FinishAssembly();
   /// Zeroes the matrix values only (no gradient; tests of the pattern).
   void ZeroValues();
@@ -212,6 +281,35 @@ class HessianAssembler {
  private:
   /// Sizes the staging buffers and builds the entry → contributions maps.
   void PrepareStaging();
+  /// A pattern in the making: the order, and what BuildPattern makes of it.
+  struct Pattern {
+    DynamicArray<int> permutation, partRowStart, orderedBlockSizes;
+    int part = 0;
+    bool divided = false;
+    SparseSymmetricMatrix matrix;
+    DynamicArray<int> dofStart, dofs, slotStart, slots;
+    bool dropsEntries = false;
+  };
+  static bool CheckDofList(DynamicArray<int> const& dofs, int numDofs, Error& error);
+  /// The CSC pattern of the contributors (those `evaluated` flags, all when
+  /// empty) and of `extraBlockPairs` (a << 32 | b, a <= b: every DoF pair of
+  /// the two blocks) in `out`'s order, and the contributors' slot tables.
+  void BuildPattern(DynamicArray<DynamicArray<int>> const& contributorDofs,
+                    DynamicArray<std::uint8_t> const& evaluated, DynamicArray<std::uint64_t> const& extraBlockPairs,
+                    DynamicArray<int> const& blockStart, Pattern& out, AnalysisTimes& times) const;
+  /// The slots of `dofs`' local upper triangle in `matrix` (−1 where not
+  /// `stored`, or missing).
+  template <class Stored>
+  static void AppendSlots(SparseSymmetricMatrix const& matrix, DynamicArray<int> const& permutation,
+                          DynamicArray<int> const& dofs, Stored const& stored, DynamicArray<int>& slots,
+                          bool& dropsEntries);
+  /// Makes `pattern` the assembler's (and its staging), recording `times`.
+  void Commit(Pattern& pattern, AnalysisTimes& times);
+  void ClearDynamicContributors();
+  /// Rebuilds the pattern with the reserved pairs, in the kept order or (many
+  /// pairs added since the last ordering) a new one.
+  bool GrowPattern(DynamicUpdate& update, bool reorder, Error& error);
+  void FinishStaticAssembly();
 
   bool analyzed_ = false;
   std::int64_t numBuilds_ = 0;
@@ -244,6 +342,19 @@ class HessianAssembler {
   std::uint32_t stamp_ = 0;
   DynamicArray<int> valueSourceStart_, valueSources_;        ///< value index → slot positions, ascending
   DynamicArray<int> gradientSourceStart_, gradientSources_;  ///< DoF → dofs_ positions, ascending
+
+  AnalysisTimes lastTimes_;
+  // the blocks of the DoFs (one part), for the second family's pairs
+  DynamicArray<int> blockStart_, dofToBlock_, orderedBlockSizes_;
+  // the second family: reserved block pairs (→ the last stage that used
+  // them), this stage's contributors, their slots and staged contributions
+  std::unordered_map<std::uint64_t, std::int64_t> reserved_;
+  std::int64_t dynamicStage_ = 0;
+  std::int64_t reservedSinceOrdering_ = 0;  ///< pairs of two blocks reserved by growths since the last ordering
+  std::int64_t orderedBlockPairs_ = 0;      ///< edges + blocks of the block graph last ordered
+  std::int64_t numGrowths_ = 0;
+  DynamicArray<int> dynamicDofStart_{0}, dynamicDofs_, dynamicSlotStart_{0}, dynamicSlots_;
+  DynamicArray<real> dynamicValueStage_, dynamicGradientStage_;
 };
 
 }  // namespace superdex::internal

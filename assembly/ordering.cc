@@ -16,6 +16,14 @@ std::string_view ToString(OrderingMethod method) {
   return "Unknown";
 }
 
+std::string_view ToString(PatternPolicy policy) {
+  switch (policy) {
+    case PatternPolicy::ReserveAndGrow: return "ReserveAndGrow";
+    case PatternPolicy::RebuildWhenChanged: return "RebuildWhenChanged";
+  }
+  return "Unknown";
+}
+
 namespace internal {
 
 BlockGraph BuildBlockGraph(DynamicArray<int> const& blockSizes, DynamicArray<int> const& dofToBlock,

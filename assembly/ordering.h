@@ -23,6 +23,20 @@ enum class OrderingMethod {
 
 std::string_view ToString(OrderingMethod method);
 
+/// How the pattern follows contributors whose DoF lists change between
+/// stages (contact pairs; docs/architecture.md, "A pattern that may change").
+enum class PatternPolicy {
+  /// Their block pairs are reserved in the pattern and kept while used (with
+  /// hysteresis); the pattern grows in the kept fill-reducing order where
+  /// they need more, and is ordered again only after many pairs (default).
+  ReserveAndGrow,
+  /// The pattern is rebuilt and ordered anew for exactly this stage's pairs
+  /// whenever they differ from the last stage's (for comparisons).
+  RebuildWhenChanged,
+};
+
+std::string_view ToString(PatternPolicy policy);
+
 namespace internal {
 
 /// Block graph in CSR form (no self loops, symmetric).

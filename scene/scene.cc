@@ -86,6 +86,11 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
                   std::to_string(static_cast<int>(params.ordering)));
     return nullptr;
   }
+  if (params.patternPolicy != PatternPolicy::ReserveAndGrow && params.patternPolicy != PatternPolicy::RebuildWhenChanged) {
+    error.Set(ErrorCode::InvalidArgument, "SceneParams.patternPolicy must be a PatternPolicy, got the value " +
+                                              std::to_string(static_cast<int>(params.patternPolicy)));
+    return nullptr;
+  }
   if (params.newton.maxIterations <= 0) {
     error.Set(ErrorCode::InvalidArgument, "SceneParams.newton.maxIterations must be > 0, got " +
                                                std::to_string(params.newton.maxIterations));
@@ -125,6 +130,7 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
   std::unique_ptr<Scene> scene(new Scene(params));
   scene->solver_->SetCommunicator(params.communicator);
   scene->solver_->SetNumThreads(params.numThreads);
+  scene->solver_->SetPatternPolicy(params.patternPolicy);
   if (!scene->solver_->SetLinearSolver(params.linearSolver, params.pcg, error)) {
     // name the field as the caller wrote it
     std::string message = error.GetMessage();
@@ -695,7 +701,9 @@ bool Scene::Step(real dt, Error& error) {
   stats_.reusedFactorSolves = 0;
   stats_.singlePrecisionSolves = 0;
   stats_.nearRigidConstraints = 0;
+  stats_.stageContributors = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
+  stats_.orderingSeconds = stats_.patternSeconds = stats_.slotTableSeconds = stats_.symbolicSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;
 
   // no actor, nothing to integrate (and no system to solve): time advances
@@ -719,6 +727,7 @@ bool Scene::Step(real dt, Error& error) {
     }
     constraintTerm_.SetConstraints(constraintOrder_);
     terms.push_back(&constraintTerm_);
+    terms.insert(terms.end(), attachedTerms_.begin(), attachedTerms_.end());
     if (!solver_->Analyze(std::move(dofs), std::move(terms), params_.ordering, stats_, error)) return false;
     topologyChanged_ = false;
     stats_.analysisSeconds +=
@@ -835,6 +844,11 @@ void Scene::SetSubstepTargets(int index, int substeps) {
 namespace internal {
 void SetFaultInjectionForTesting(Scene& scene, FaultInjection const& fault) {
   scene.solver_->SetFaultInjection(fault);
+}
+
+void AttachStageTerm(Scene& scene, StageTerm& term) {
+  scene.attachedTerms_.push_back(&term);
+  scene.topologyChanged_ = true;
 }
 }  // namespace internal
 

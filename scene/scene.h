@@ -47,6 +47,11 @@ struct FaultInjection;
 struct ActorSnapshot;
 /// Test hook: injects a linear-solver failure (see FaultInjection).
 void SetFaultInjectionForTesting(Scene& scene, FaultInjection const& fault);
+/// Adds a term of the stage's potential that is neither an actor nor a
+/// constraint (stage/stage_term.h; a contact set is one), after the
+/// constraints; it must outlive the scene's steps. A topology change: the
+/// next step analyses the pattern again.
+void AttachStageTerm(Scene& scene, StageTerm& term);
 /// Calls a ForEach callback with `object` as T& or, when it takes that, T*.
 template <class T, class Fn>
 void CallVisitor(Fn& fn, T& object) {
@@ -187,6 +192,7 @@ class Scene {
  private:
   explicit Scene(SceneParams const& params);
   friend void internal::SetFaultInjectionForTesting(Scene&, internal::FaultInjection const&);
+  friend void internal::AttachStageTerm(Scene&, internal::StageTerm&);
 
   void VisitActors(std::function<void(Actor&)> const& fn) const;
   void VisitConstraints(std::function<void(Constraint&)> const& fn) const;
@@ -246,6 +252,8 @@ class Scene {
   std::unique_ptr<internal::NewtonSolver> solver_;
   /// the constraints as one term of the stage (in constraintOrder_)
   internal::ConstraintSet constraintTerm_;
+  /// terms attached after the constraints (AttachStageTerm)
+  DynamicArray<internal::StageTerm*> attachedTerms_;
   SceneStats stats_;
   real time_ = 0;
   /// Step size over which the actors' integrator history was recorded (the

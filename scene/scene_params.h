@@ -45,6 +45,10 @@ struct SceneParams {
   LinearSolverType linearSolver = LinearSolverType::Auto;
   PcgParams pcg;  ///< used when linearSolver is PetscPcg
   OrderingMethod ordering = OrderingMethod::Metis;
+  /// How the pattern follows contributors whose DoF lists change between
+  /// stages (contact pairs): reserved pairs and growth in the kept order, or
+  /// a new analysis whenever they change.
+  PatternPolicy patternPolicy = PatternPolicy::ReserveAndGrow;
   /// Threads of the assembly (elements, stencils and constraints evaluated
   /// concurrently): 0 (the default) uses every CPU this process may run on,
   /// n >= 1 exactly n. The assembled Hessian and gradient, hence every

@@ -116,6 +116,7 @@ bool LinearStep::Prepare(StageProblem const& problem, SceneStats& stats, Error& 
       solver_->SetNearNullSpace(nearNullSpace_);
     }
     stats.analysisSeconds += SecondsSince(start);
+    stats.symbolicSeconds += SecondsSince(start);
     if (!result.Ok()) {
       error.Set(ErrorCode::LinearSolverFailed,
                 solver_->GetDescription() + " symbolic analysis failed: " + result.reason);

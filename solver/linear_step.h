@@ -48,6 +48,8 @@ class LinearStep {
   /// At a pattern build: sizes the buffers; `hessianNonzeros` of the whole
   /// pattern (the reused-factor CG's cost model).
   void Reserve(int numDofs, OrderingMethod ordering, std::int64_t hessianNonzeros);
+  /// The pattern's entries after it grew (the reused-factor CG's cost model).
+  void SetHessianNonzeros(std::int64_t hessianNonzeros) { hessianNonzeros_ = hessianNonzeros; }
   /// Before a stage: the backend for the pattern, analyzed (once per pattern
   /// version; the rigid-body modes for AMG from `problem`).
   bool Prepare(StageProblem const& problem, SceneStats& stats, Error& error);

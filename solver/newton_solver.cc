@@ -82,27 +82,62 @@ bool NewtonSolver::Analyze(DynamicArray<StageDofs*> dofs, DynamicArray<StageTerm
   stats.ranks = ranks_.GetSize();
   stats.ownedDofs = assembler_.GetOwnedRowEnd() - assembler_.GetOwnedRowBegin();
   stats.hessianNonzeros = hessianNonzeros;
+  AddAnalysisTimes(stats);
   return true;
 }
 
-void NewtonSolver::BeginStage(StageContext& stage, NewtonParams const& newton) {
+bool NewtonSolver::BeginStage(StageContext& stage, NewtonParams const& newton, SceneStats& stats, Error& error) {
   // terms first, at the committed configuration (the near-rigid cap reads
-  // the inverse masses there), then the first iterates
+  // the inverse masses there; the linear solver's analysis the rigid-body
+  // modes), then the first iterates
   stage.inverseMasses = Span<real const>(dofInverseMasses_.data(), dofInverseMasses_.size());
   if (newton.nearRigidBeta > 0)
     problem_.WriteDofInverseMasses(Span<real>(dofInverseMasses_.data(), dofInverseMasses_.size()));
   stage.nearRigidBeta = newton.nearRigidBeta;
   stage.constraintHessian = newton.constraintHessian;
   problem_.BeginStage(stage);
+  if (!SetStageContributors(stats, error) || !linear_.Prepare(problem_, stats, error)) return false;
+  problem_.MoveToFirstIterate();
   real const h = stage.coefficients.duration;
   convergence_.BeginStage(newton.velocityTolerance, h);
   linear_.BeginStage(convergence_.GetLengthScales(), newton, h);
+  return true;
+}
+
+bool NewtonSolver::SetStageContributors(SceneStats& stats, Error& error) {
+  stageDofs_.clear();
+  problem_.AppendStageContributorDofs(stageDofs_);
+  stats.stageContributors = static_cast<int>(stageDofs_.size());
+  if (stageDofs_.empty() && assembler_.GetNumDynamicContributors() == 0) return true;
+  auto const start = Clock::now();
+  HessianAssembler::DynamicUpdate update;
+  if (!assembler_.SetDynamicContributors(stageDofs_, update, error,
+                                         patternPolicy_ == PatternPolicy::RebuildWhenChanged))
+    return false;
+  stats.reservedBlockPairs = static_cast<std::int64_t>(assembler_.GetNumReservedPairs());
+  if (!update.grew) {
+    ++stats.patternFits;
+    return true;
+  }
+  stats.patternBuilds = assembler_.GetNumPatternBuilds();
+  stats.patternGrowths = assembler_.GetNumPatternGrowths();
+  stats.hessianNonzeros = assembler_.CountOwnedColumnEntries();
+  linear_.SetHessianNonzeros(stats.hessianNonzeros);
+  AddAnalysisTimes(stats);
+  stats.analysisSeconds += SecondsSince(start);
+  return true;
+}
+
+void NewtonSolver::AddAnalysisTimes(SceneStats& stats) const {
+  AnalysisTimes const& times = assembler_.GetLastAnalysisTimes();
+  stats.orderingSeconds += times.orderingSeconds;
+  stats.patternSeconds += times.patternSeconds;
+  stats.slotTableSeconds += times.slotTableSeconds;
 }
 
 bool NewtonSolver::Solve(int stageIndex, StageContext stage, NewtonParams const& newton, SceneStats& stats,
                          Error& error) {
-  if (!linear_.Prepare(problem_, stats, error)) return false;
-  BeginStage(stage, newton);
+  if (!BeginStage(stage, newton, stats, error)) return false;
   real energy = convergence_.Energy();
   if (!std::isfinite(energy))
     return Fail(ErrorCode::NonFiniteState, stageIndex, 0, "the incremental potential is not finite at the stage start",

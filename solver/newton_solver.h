@@ -71,14 +71,22 @@ class NewtonSolver {
   /// the DoF owners are left at some iterate (the caller restores them).
   bool Solve(int stageIndex, StageContext stage, NewtonParams const& newton, SceneStats& stats, Error& error);
 
+  /// How the pattern follows the terms' stage contributors (SceneParams::patternPolicy).
+  void SetPatternPolicy(PatternPolicy policy) { patternPolicy_ = policy; }
   void SetFaultInjection(FaultInjection const& fault) { fault_ = fault; }
   HessianAssembler const& GetAssembler() const { return assembler_; }
   LinearSolver const* GetLinearSolver() const { return linear_.GetBackend(); }
 
  private:
-  /// Every term's BeginStage (with the near-rigid cap's inverse masses),
+  /// Every term's BeginStage (with the near-rigid cap's inverse masses), the
+  /// stage contributors and the pattern they need, the linear solver for it,
   /// the first iterates, the length scales of the convergence test.
-  void BeginStage(StageContext& stage, NewtonParams const& newton);
+  bool BeginStage(StageContext& stage, NewtonParams const& newton, SceneStats& stats, Error& error);
+  /// The terms' contributors of this stage (the assembler's second family):
+  /// their slots, the pattern grown where they need entries it lacks.
+  bool SetStageContributors(SceneStats& stats, Error& error);
+  /// The split of the last pattern build into `stats`.
+  void AddAnalysisTimes(SceneStats& stats) const;
   /// Assembles ∇E and H and solves for δ, retrying the iteration projected
   /// where the exact matrix is indefinite (`projected` says which ran), with
   /// a shifted diagonal where a projected one fails by round-off. False with
@@ -96,7 +104,9 @@ class NewtonSolver {
   ConvergenceTest convergence_;
   LineSearch lineSearch_;
   VectorX gradient_, delta_;   ///< ∇E and δ, natural order
+  DynamicArray<DynamicArray<int>> stageDofs_;  ///< the stage contributors' DoF lists
   VectorX dofInverseMasses_;   ///< 1/M_jj per DoF (StageDofs::WriteDofInverseMasses), near-rigid cap only
+  PatternPolicy patternPolicy_ = PatternPolicy::ReserveAndGrow;
   FaultInjection fault_;
 };
 

@@ -20,6 +20,17 @@ struct SceneStats {
   /// Successful steps that needed sub-stepping (SubstepParams): their
   /// attempt at the full dt failed.
   std::int64_t substeppedSteps = 0;
+  /// Pattern rebuilds that kept the fill-reducing order: contributors whose
+  /// DoF lists change between stages (contact pairs) needed entries the
+  /// pattern lacked (docs/architecture.md, "A pattern that may change").
+  /// patternBuilds counts the builds that ordered (METIS) anew.
+  std::int64_t patternGrowths = 0;
+  /// Stages whose changing contributors fit the pattern as analysed (their
+  /// slot tables only; no rebuild).
+  std::int64_t patternFits = 0;
+  /// Block pairs reserved in the pattern for the changing contributors (kept
+  /// while used, with hysteresis), now.
+  std::int64_t reservedBlockPairs = 0;
 
   // last step (the figures below add up every attempt of a sub-stepped
   // step, failed attempts included: they are what the step cost)
@@ -69,8 +80,17 @@ struct SceneStats {
   double factorNonzeros = 0;         ///< nnz(L) as the solver reports it
   double factorFlops = 0;
   std::string linearSolver;          ///< what ran, as the backend reports it
+  /// Contributors whose DoF lists change between stages, in the last stage.
+  int stageContributors = 0;
   // time of each phase of the last step [s]
   double analysisSeconds = 0;        ///< pattern build + symbolic analysis
+  // ... analysisSeconds split: the block graph and its ordering (METIS), the
+  // CSC pattern, the slot tables (and staging maps), the linear solver's
+  // symbolic analysis
+  double orderingSeconds = 0;
+  double patternSeconds = 0;
+  double slotTableSeconds = 0;
+  double symbolicSeconds = 0;
   double assemblySeconds = 0;
   double factorizationSeconds = 0;  ///< numeric factorization, or PCG's value update + PC set-up
   double solveSeconds = 0;

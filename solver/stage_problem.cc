@@ -10,6 +10,7 @@ void StageProblem::Set(DynamicArray<StageDofs*> dofs, DynamicArray<StageTerm*> t
   numDofs_ = 0;
   for (StageDofs const* owner : dofs_) numDofs_ += owner->GetNumDofs();
   firstContributor_.assign(terms_.size() + 1, 0);
+  firstStageContributor_.assign(terms_.size() + 1, 0);
 }
 
 void StageProblem::FlattenPattern(DynamicArray<DynamicArray<DynamicArray<int>>>& termDofs,
@@ -28,6 +29,17 @@ void StageProblem::ReserveThreads(int numThreads) {
 
 void StageProblem::BeginStage(StageContext const& stage) {
   for (StageTerm* term : terms_) term->BeginStage(stage);
+}
+
+void StageProblem::AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) {
+  for (std::size_t t = 0; t < terms_.size(); ++t) {
+    firstStageContributor_[t] = static_cast<int>(dofLists.size());
+    terms_[t]->AppendStageContributorDofs(dofLists);
+  }
+  firstStageContributor_[terms_.size()] = static_cast<int>(dofLists.size());
+}
+
+void StageProblem::MoveToFirstIterate() {
   for (StageDofs* owner : dofs_) owner->MoveToFirstIterate();
 }
 
@@ -46,7 +58,11 @@ EnergySum StageProblem::Energy(HessianAssembler const& assembler, RankGroup& ran
 void StageProblem::Assemble(HessianAssembler& assembler, Span<real> gradient, AssemblyOptions const& options) const {
   assembler.BeginAssembly(gradient);
   assembler.ParallelFor(static_cast<int>(terms_.size()), 1, [&](int begin, int end, int) {
-    for (int t = begin; t < end; ++t) terms_[t]->AddGradientAndHessian(assembler, firstContributor_[t], options);
+    for (int t = begin; t < end; ++t) {
+      AssemblyOptions termOptions = options;
+      termOptions.firstStageContributor = firstStageContributor_[t];
+      terms_[t]->AddGradientAndHessian(assembler, firstContributor_[t], termOptions);
+    }
   });
   assembler.FinishAssembly();
 }

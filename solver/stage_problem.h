@@ -29,9 +29,13 @@ class StageProblem {
   int GetFirstContributor(int term) const { return firstContributor_[term]; }
   void ReserveThreads(int numThreads);
 
-  /// Every term's BeginStage at the committed configuration, then every DoF
-  /// owner's first iterate.
+  /// Every term's BeginStage at the committed configuration.
   void BeginStage(StageContext const& stage);
+  /// The terms' stage contributors (the second family) for this stage, in
+  /// term order, recording each term's first.
+  void AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists);
+  /// Every DoF owner to its first iterate.
+  void MoveToFirstIterate();
   /// Eᵢ at the current iterate: each contributor counted by the one rank
   /// that owns it, the ranks' sums added in rank order (every rank gets the
   /// same bits).
@@ -64,6 +68,7 @@ class StageProblem {
   DynamicArray<StageTerm*> terms_;
   int numDofs_ = 0;
   DynamicArray<int> firstContributor_;  ///< per term, then the end of the last
+  DynamicArray<int> firstStageContributor_;  ///< per term, then the end of the last
 };
 
 }  // namespace superdex::internal

@@ -62,6 +62,10 @@ struct AssemblyOptions {
   /// Every block positive semi-definite (element Hessians projected, the
   /// constraints' curvature by its column norms, inertia Gauss–Newton).
   bool projectHessian = false;
+  /// The assembler's index of this term's first stage contributor (the
+  /// second family: AppendStageContributorDofs; AddDynamicGradient,
+  /// AddDynamicBlock).
+  int firstStageContributor = 0;
 };
 
 /// The step the line search accepted: q ← q_saved ⊕ α δ (δ in global DoF
@@ -78,7 +82,8 @@ struct AcceptedStep {
 /// Order of calls: at each pattern build AppendContributorDofs (after the
 /// own-block choices, below) and ReserveThreads; per stage BeginStage (every
 /// term, at the committed configuration, before any DoF owner moves to its
-/// first iterate), then per Newton iteration AddGradientAndHessian and, in
+/// first iterate) and AppendStageContributorDofs, then per Newton iteration
+/// AddGradientAndHessian and, in
 /// the line search, AddEnergy at trial configurations, AcceptStep after an
 /// accepted step; EndStage at the converged configuration.
 ///
@@ -97,6 +102,10 @@ class StageTerm {
   /// Sizes per-thread scratch for `numThreads` assembly threads (at each
   /// pattern build and thread-count change; the default has none).
   virtual void ReserveThreads(int /*numThreads*/) {}
+  /// Contributors whose DoF lists change between stages (contact pairs: the
+  /// second family of HessianAssembler): their DoF lists for this stage,
+  /// appended after BeginStage. The default has none.
+  virtual void AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& /*dofLists*/) const {}
 
   /// Prepares the stage from the committed configuration.
   virtual void BeginStage(StageContext const& stage) = 0;

@@ -59,7 +59,7 @@ COLUMNS = (
     "preconditioner rtol newton_tol constraint_hessian near_rigid integrator dt steps end_time "
     "newton_iterations linear_iterations linear_solves truncated_solves factorizations reused_solves near_rigid_capped pattern_builds "
     "symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops "
-    "analysis_s assembly_s factorization_s solve_s line_search_s other_s "
+    "analysis_s ordering_s pattern_s slot_tables_s symbolic_s assembly_s factorization_s solve_s line_search_s other_s "
     "wall_per_step_s steady_per_step_s total_s ranks owned_dofs peak_rss_mb scene_rss_mb error reference joint_drift energy_gain state_hash "
     "status reason").split()
 # the two ways of building the chain (perf/harness/families.cc) and their line styles

@@ -302,7 +302,7 @@ std::array<std::string_view, kNumColumns> const kColumnNames{
     "preconditioner", "rtol", "newton_tol", "constraint_hessian", "near_rigid", "integrator", "dt", "steps",
     "end_time", "newton_iterations", "linear_iterations", "linear_solves", "truncated_solves", "factorizations", "reused_solves", "near_rigid_capped", "pattern_builds",
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
-    "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
+    "ordering_s", "pattern_s", "slot_tables_s", "symbolic_s", "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
     "steady_per_step_s", "total_s", "ranks", "owned_dofs", "peak_rss_mb", "scene_rss_mb", "error", "reference", "joint_drift", "energy_gain", "state_hash", "status",
     "reason"};
 // clang-format on
@@ -415,6 +415,7 @@ struct Totals {
   long long factorizations = 0, reusedSolves = 0;
   int nearRigidCapped = 0;  ///< the most constraints the near-rigid cap lowered in a step
   double analysis = 0, assembly = 0, factorization = 0, solve = 0, lineSearch = 0, step = 0;
+  double ordering = 0, pattern = 0, slotTables = 0, symbolic = 0;
 
   void Add(SceneStats const& s) {
     newton += s.newtonIterations;
@@ -425,6 +426,10 @@ struct Totals {
     reusedSolves += s.reusedFactorSolves;
     nearRigidCapped = std::max(nearRigidCapped, s.nearRigidConstraints);
     analysis += s.analysisSeconds;
+    ordering += s.orderingSeconds;
+    pattern += s.patternSeconds;
+    slotTables += s.slotTableSeconds;
+    symbolic += s.symbolicSeconds;
     assembly += s.assemblySeconds;
     factorization += s.factorizationSeconds;
     solve += s.solveSeconds;
@@ -453,6 +458,10 @@ void FillMeasured(Row& row, Totals const& t, int steps, SceneStats const& s) {
   if (s.factorNonzeros > 0) row[kNnzL] = Cell(s.factorNonzeros, 9);
   if (s.factorFlops > 0) row[kFactorFlops] = Cell(s.factorFlops);
   row[kAnalysisS] = Cell(t.analysis);
+  row[kOrderingS] = Cell(t.ordering);
+  row[kPatternS] = Cell(t.pattern);
+  row[kSlotTablesS] = Cell(t.slotTables);
+  row[kSymbolicS] = Cell(t.symbolic);
   row[kAssemblyS] = Cell(t.assembly);
   row[kFactorizationS] = Cell(t.factorization);
   row[kSolveS] = Cell(t.solve);

@@ -116,7 +116,7 @@ enum Column : int {
   kSuite, kStudy, kFamily, kSize, kDofs, kMaterial, kStiffnessRatio, kMethod, kSolver,
   kPreconditioner, kRtol, kNewtonTol, kConstraintHessian, kNearRigid, kIntegrator, kDt, kSteps, kEndTime,
   kNewtonIterations, kLinearIterations, kLinearSolves, kTruncatedSolves, kFactorizations, kReusedSolves, kNearRigidCapped, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
-  kNnzH, kNnzL, kFactorFlops, kAnalysisS, kAssemblyS, kFactorizationS, kSolveS, kLineSearchS,
+  kNnzH, kNnzL, kFactorFlops, kAnalysisS, kOrderingS, kPatternS, kSlotTablesS, kSymbolicS, kAssemblyS, kFactorizationS, kSolveS, kLineSearchS,
   kOtherS, kWallPerStepS, kSteadyPerStepS, kTotalS, kRanks, kOwnedDofs, kPeakRssMb, kSceneRssMb, kError, kReference, kJointDrift, kEnergyGain, kStateHash,
   kStatus, kReason, kNumColumns
 };

@@ -9,6 +9,12 @@ void DefineOrdering(py::module_& m) {
       .value("Natural", OrderingMethod::Natural, "DoFs in actor-creation order (for comparisons)")
       .value("SolverDefault", OrderingMethod::SolverDefault,
              "natural order; the linear solver orders (CHOLMOD: AMD/METIS)");
+  py::enum_<PatternPolicy>(m, "PatternPolicy",
+                           "How the pattern follows contributors whose DoF lists change between stages.")
+      .value("ReserveAndGrow", PatternPolicy::ReserveAndGrow,
+             "reserve their block pairs (kept while used), grow in the kept order (default)")
+      .value("RebuildWhenChanged", PatternPolicy::RebuildWhenChanged,
+             "rebuild and order the pattern anew whenever they change (for comparisons)");
 }
 
 }  // namespace superdex::python

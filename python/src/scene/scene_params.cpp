@@ -76,6 +76,9 @@ void DefineSceneParams(py::module_& m) {
       .Field("linear_solver", &S::linearSolver, "LinearSolverType, default Auto")
       .Field("pcg", &S::pcg, "PcgParams, used when linear_solver is PetscPcg")
       .Field("ordering", &S::ordering, "OrderingMethod, default Metis")
+      .Field("pattern_policy", &S::patternPolicy,
+             "PatternPolicy: how the pattern follows contributors whose DoF lists change between "
+             "stages, default ReserveAndGrow")
       .Field("num_threads", &S::numThreads,
              "threads of the assembly, >= 0; 0 (default): every CPU this process may use. Results "
              "are bit-identical for any count")
@@ -93,6 +96,13 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("pattern_builds", &T::patternBuilds,
                     "Hessian pattern + ordering + slot tables built")
       .def_readonly("symbolic_analyses", &T::symbolicAnalyses, "linear-solver symbolic analyses")
+      .def_readonly("pattern_growths", &T::patternGrowths,
+                    "pattern rebuilds that kept the fill-reducing order (changing contributors needed "
+                    "entries the pattern lacked)")
+      .def_readonly("pattern_fits", &T::patternFits,
+                    "stages whose changing contributors fit the analysed pattern (no rebuild)")
+      .def_readonly("reserved_block_pairs", &T::reservedBlockPairs,
+                    "block pairs reserved in the pattern for changing contributors, now")
       .def_readonly("linear_solver_object_builds", &T::linearSolverObjectBuilds,
                     "PETSc Mat + KSP creations; 0 for CHOLMOD and dense")
       .def_readonly("substepped_steps", &T::substeppedSteps,
@@ -145,8 +155,17 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("factor_nonzeros", &T::factorNonzeros, "nnz(L) as the solver reports it")
       .def_readonly("factor_flops", &T::factorFlops)
       .def_readonly("linear_solver", &T::linearSolver, "what ran, as the backend reports it")
+      .def_readonly("stage_contributors", &T::stageContributors,
+                    "contributors whose DoF lists change between stages, in the last stage")
       .def_readonly("analysis_seconds", &T::analysisSeconds,
                     "pattern build + symbolic analysis [s]")
+      .def_readonly("ordering_seconds", &T::orderingSeconds,
+                    "of analysis_seconds: the block graph and its ordering (METIS) [s]")
+      .def_readonly("pattern_seconds", &T::patternSeconds, "of analysis_seconds: the CSC pattern [s]")
+      .def_readonly("slot_table_seconds", &T::slotTableSeconds,
+                    "of analysis_seconds: the slot tables and staging maps [s]")
+      .def_readonly("symbolic_seconds", &T::symbolicSeconds,
+                    "of analysis_seconds: the linear solver's symbolic analysis [s]")
       .def_readonly("assembly_seconds", &T::assemblySeconds, "[s]")
       .def_readonly("factorization_seconds", &T::factorizationSeconds, "[s]")
       .def_readonly("solve_seconds", &T::solveSeconds, "[s]")
