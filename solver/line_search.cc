@@ -1,6 +1,7 @@
 #include <superdex/solver/line_search.h>
 
 #include <cmath>
+#include <limits>
 
 #include <superdex/solver/newton_params.h>
 #include <superdex/solver/scene_stats.h>
@@ -31,12 +32,16 @@ void LineSearch::Reserve(int numDofs) {
 
 void LineSearch::TakeWhole() {
   Span<real const> const delta(delta_->data(), delta_->size());
-  problem_.ApplyIncrementFromSaved(delta, problem_.LargestSafeStep(delta, 1));
+  problem_.ApplyIncrementFromSaved(delta, problem_.BoundsSteps() ? problem_.LargestSafeStep(delta, 1) : 1);
 }
 
 bool LineSearch::Search(NewtonParams const& newton, bool projected, real slope, real& energy, SceneStats& stats) {
   Span<real const> const delta(delta_->data(), delta_->size());
-  real alpha = problem_.LargestSafeStep(delta, 1);
+  // the safe step along δ, asked once at the saved iterate: no trial below
+  // goes past it (the backtracking's first, the expansion's last)
+  safeAlpha_ = problem_.BoundsSteps() ? problem_.LargestSafeStep(delta, std::ldexp(real(1), kMaxExpansions))
+                                      : std::numeric_limits<real>::infinity();
+  real alpha = std::min(real(1), safeAlpha_);
   bool accepted = false, corrected = false;
   real trialEnergy = energy;
   for (int k = 0; k <= newton.maxLineSearchSteps; ++k, alpha *= 0.5) {
@@ -80,7 +85,7 @@ real LineSearch::Expand(real& trialEnergy, SceneStats& stats) {
   Span<real const> const delta(delta_->data(), delta_->size());
   real alpha = 1;
   for (int k = 0; k < kMaxExpansions; ++k) {
-    if (problem_.LargestSafeStep(delta, 2 * alpha) < 2 * alpha) break;
+    if (2 * alpha > safeAlpha_) break;
     problem_.ApplyIncrementFromSaved(delta, 2 * alpha);
     real const expandedEnergy = convergence_.Energy();
     if (!(expandedEnergy < trialEnergy)) break;
@@ -106,7 +111,11 @@ bool LineSearch::SecondOrderCorrection(real energy, real slope, SceneStats& stat
     problem_.AddCorrectionForce(step, gradient);
     if (!linear_.SolveWithCurrentMatrix(stats).Ok()) break;
     correctedStep_ += *delta_;
-    if (problem_.LargestSafeStep(corrected, 1) < 1) break;
+    if (problem_.BoundsSteps()) {
+      // asked from the saved iterate, as every safe step
+      problem_.RestoreIterate();
+      if (problem_.LargestSafeStep(corrected, 1) < 1) break;
+    }
     problem_.ApplyIncrementFromSaved(corrected, 1);
     real const correctedEnergy = convergence_.Energy();
     if (SufficientDecrease(energy, correctedEnergy, 1, slope, convergence_.Resolution())) {

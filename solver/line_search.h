@@ -5,9 +5,9 @@
 // a projected step on a concave ray is lengthened while Eᵢ keeps falling.
 //
 // The safe-step hook: every trial step is bounded by StageTerm::
-// LargestSafeStep over the terms (collision detection will answer it, so
-// that no trial configuration lets surfaces pass through each other); terms
-// that do not bound it leave every trial as it was.
+// LargestSafeStep over the terms that bound steps (collision detection will
+// answer it, so that no trial configuration lets surfaces pass through each
+// other), asked at the saved iterate; without such terms nothing changes.
 #pragma once
 
 #include <superdex/solver/convergence_test.h>
@@ -57,6 +57,7 @@ class LineSearch {
   VectorX* gradient_ = nullptr;
   VectorX* delta_ = nullptr;
   VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction
+  real safeAlpha_ = 1;  ///< the terms' safe step along this iteration's δ
 };
 
 }  // namespace superdex::internal

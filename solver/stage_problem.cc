@@ -9,6 +9,7 @@ void StageProblem::Set(DynamicArray<StageDofs*> dofs, DynamicArray<StageTerm*> t
   terms_ = std::move(terms);
   numDofs_ = 0;
   for (StageDofs const* owner : dofs_) numDofs_ += owner->GetNumDofs();
+  boundsSteps_ = std::any_of(terms_.begin(), terms_.end(), [](StageTerm const* t) { return t->BoundsSteps(); });
   firstContributor_.assign(terms_.size() + 1, 0);
   firstStageContributor_.assign(terms_.size() + 1, 0);
 }
@@ -86,7 +87,8 @@ bool StageProblem::IsStateFinite() const {
 }
 
 real StageProblem::LargestSafeStep(Span<real const> delta, real alpha) const {
-  for (StageTerm const* term : terms_) alpha = std::min(alpha, term->LargestSafeStep(delta, alpha));
+  for (StageTerm const* term : terms_)
+    if (term->BoundsSteps()) alpha = std::min(alpha, term->LargestSafeStep(delta, alpha));
   return alpha;
 }
 

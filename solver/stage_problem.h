@@ -50,8 +50,10 @@ class StageProblem {
   /// q ← saved ⊕ α δ for every DoF owner.
   void ApplyIncrementFromSaved(Span<real const> delta, real alpha);
   bool IsStateFinite() const;
-  /// The safe-step hook over every term: the largest α' <= alpha that no
-  /// term refuses.
+  /// Whether some term bounds Newton's steps (StageTerm::BoundsSteps).
+  bool BoundsSteps() const { return boundsSteps_; }
+  /// The safe-step hook over the terms that bound steps: the largest
+  /// α' <= alpha that none refuses, from the current configuration.
   real LargestSafeStep(Span<real const> delta, real alpha) const;
   void AcceptStep(AcceptedStep const& step);
   bool HasSecondOrderCorrection() const;
@@ -67,6 +69,7 @@ class StageProblem {
   DynamicArray<StageDofs*> dofs_;
   DynamicArray<StageTerm*> terms_;
   int numDofs_ = 0;
+  bool boundsSteps_ = false;
   DynamicArray<int> firstContributor_;  ///< per term, then the end of the last
   DynamicArray<int> firstStageContributor_;  ///< per term, then the end of the last
 };

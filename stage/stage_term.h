@@ -131,9 +131,13 @@ class StageTerm {
   /// f(g + J δ)) with J of the last assembly (a second-order correction's
   /// right-hand side).
   virtual void AddCorrectionForce(Span<real const> /*step*/, Span<real> /*gradient*/) {}
-  /// The safe-step hook: the largest α' <= alpha such that the move from the
-  /// saved iterate to q_saved ⊕ α' δ keeps this term valid (collision
-  /// detection: no surfaces pass through each other). The default: alpha.
+  /// The safe-step hook, for terms that bound Newton's steps (BoundsSteps):
+  /// the largest α' <= alpha such that the whole move from the current
+  /// configuration to q ⊕ α' δ keeps this term valid (collision detection:
+  /// no surfaces pass through each other on the way). The solver asks it with
+  /// the DoF owners at the saved iterate, before it moves them, and never
+  /// tries a step beyond the smallest answer. The default: alpha.
+  virtual bool BoundsSteps() const { return false; }
   virtual real LargestSafeStep(Span<real const> /*delta*/, real alpha) const { return alpha; }
   /// Commits the converged stage.
   virtual void EndStage() = 0;
