@@ -11,6 +11,9 @@ constexpr int kConstraintGrain = 32;
 
 void ConstraintSet::SetConstraints(DynamicArray<Constraint*> const& constraints) {
   constraints_ = constraints;
+  stages_.clear();
+  stages_.reserve(constraints_.size());
+  for (Constraint* constraint : constraints_) stages_.emplace_back(*constraint);
   maxDimension_ = maxDofs_ = 1;
   for (Constraint const* constraint : constraints_) {
     maxDimension_ = std::max(maxDimension_, constraint->GetDimension());
@@ -20,7 +23,7 @@ void ConstraintSet::SetConstraints(DynamicArray<Constraint*> const& constraints)
 }
 
 void ConstraintSet::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
-  for (Constraint const* constraint : constraints_) dofLists.emplace_back(constraint->dofs_);
+  for (Constraint const* constraint : constraints_) dofLists.emplace_back(constraint->GetDofs());
 }
 
 void ConstraintSet::ReserveThreads(int numThreads) {
@@ -31,20 +34,15 @@ void ConstraintSet::ReserveThreads(int numThreads) {
 void ConstraintSet::BeginStage(StageContext const& stage) {
   // g(qᵢ⁰, p̂ᵢ⁰) at the committed configuration (every term begins before
   // any actor moves to its first iterate), and the near-rigid cap there
-  duration_ = stage.coefficients.duration;
-  sceneHessian_ = stage.constraintHessian;
   numNearRigid_ = 0;
-  for (Constraint* constraint : constraints_) {
-    constraint->sceneHessian_ = sceneHessian_;
-    numNearRigid_ += constraint->BeginStage(duration_, stage.nearRigidBeta, stage.inverseMasses, workspaces_[0]);
-  }
+  for (ConstraintStage& constraint : stages_) numNearRigid_ += constraint.Begin(stage, workspaces_[0]);
 }
 
 void ConstraintSet::AddEnergy(HessianAssembler const& assembler, int firstContributor, EnergySum& sum) const {
   int const count = static_cast<int>(constraints_.size());
   for (int c = 0; c < count; ++c) {
     if (!assembler.Owns(firstContributor + c)) continue;
-    sum.Add(constraints_[c]->Energy(duration_, workspaces_[0]));
+    sum.Add(stages_[c].Energy(workspaces_[0]));
   }
 }
 
@@ -52,28 +50,25 @@ void ConstraintSet::AddGradientAndHessian(HessianAssembler& assembler, int first
                                           AssemblyOptions const& options) const {
   // a constraint an own-block solve took in has no DoFs here (its actor
   // assembles it): the assembler does not evaluate it
-  assembler.ParallelFor(static_cast<int>(constraints_.size()), kConstraintGrain, [&](int begin, int end, int thread) {
+  assembler.ParallelFor(static_cast<int>(stages_.size()), kConstraintGrain, [&](int begin, int end, int thread) {
     for (int c = begin; c < end; ++c) {
       int const contributor = firstContributor + c;
       if (!assembler.Evaluates(contributor)) continue;
-      constraints_[c]->AddGradientAndHessian(duration_, assembler, contributor, sceneHessian_,
-                                             options.projectHessian, workspaces_[thread]);
+      stages_[c].AddGradientAndHessian(assembler, contributor, options.projectHessian, workspaces_[thread]);
     }
   });
 }
 
 void ConstraintSet::AcceptStep(AcceptedStep const& step) {
-  for (Constraint* constraint : constraints_)
-    constraint->PredictForce(duration_, step.delta, step.alpha, step.corrected);
+  for (ConstraintStage& constraint : stages_) constraint.PredictForce(step);
 }
 
 void ConstraintSet::AddCorrectionForce(Span<real const> step, Span<real> gradient) {
-  for (Constraint* constraint : constraints_)
-    constraint->AddCorrectionForce(duration_, step, gradient, workspaces_[0]);
+  for (ConstraintStage& constraint : stages_) constraint.AddCorrectionForce(step, gradient, workspaces_[0]);
 }
 
 void ConstraintSet::EndStage() {
-  for (Constraint* constraint : constraints_) constraint->EndStage(duration_, workspaces_[0]);
+  for (ConstraintStage& constraint : stages_) constraint.End(workspaces_[0]);
 }
 
 }  // namespace superdex::internal

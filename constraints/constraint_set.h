@@ -1,7 +1,8 @@
 // ConstraintSet: the scene's constraints as one term of the stage
 // (stage/stage_term.h), Σ Φᶜᵢ over every constraint, one contributor per
 // constraint in creation order (constraints.md: the compliant potential with
-// stiffness, damping against the stage start, saturation and ranges).
+// stiffness, damping against the stage start, saturation and ranges). It
+// owns each constraint's stage state (ConstraintStage).
 //
 // It holds the per-thread workspaces the constraints are evaluated in (sized
 // at each pattern build to the largest constraint) and runs their assembly
@@ -9,6 +10,7 @@
 #pragma once
 
 #include <superdex/constraints/constraint.h>
+#include <superdex/constraints/constraint_stage.h>
 #include <superdex/stage/stage_term.h>
 
 namespace superdex::internal {
@@ -31,7 +33,9 @@ class ConstraintSet final : public StageTerm {
   bool HasSecondOrderCorrection() const override { return !constraints_.empty(); }
   void AddCorrectionForce(Span<real const> step, Span<real> gradient) override;
   void EndStage() override;
-  LinkTerm* GetLinkTerm(int k) override { return constraints_[k]->GetLinkTerm(); }
+  LinkTerm* GetLinkTerm(int k) override {
+    return constraints_[k]->FoldableLinkSlot() >= 0 ? &stages_[k] : nullptr;
+  }
 
   /// Constraints whose k and d the near-rigid cap lowered in the last
   /// BeginStage (NewtonParams::nearRigidBeta).
@@ -39,8 +43,7 @@ class ConstraintSet final : public StageTerm {
 
  private:
   DynamicArray<Constraint*> constraints_;
-  real duration_ = 1;  ///< this stage's Δtᵢ
-  ConstraintHessian sceneHessian_ = ConstraintHessian::GeometricStiffness;
+  DynamicArray<ConstraintStage> stages_;  ///< one per constraint: its stage state
   int numNearRigid_ = 0;
   int maxDimension_ = 1, maxDofs_ = 1;
   /// one per assembly thread; the first serves the serial calls too

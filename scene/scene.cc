@@ -363,7 +363,7 @@ bool Scene::GetRigidPair(Params const& p, std::string_view paramsName, internal:
 
 Constraint* Scene::AddConstraint(std::unique_ptr<Constraint> constraint) {
   Constraint* raw = constraint.get();
-  raw->handle_ = constraints_.Insert(std::move(constraint));
+  raw->GetState().handle = constraints_.Insert(std::move(constraint));
   constraintOrder_.push_back(raw);
   OnTopologyChanged();
   return raw;
@@ -739,7 +739,7 @@ bool Scene::Step(real dt, Error& error) {
   for (std::size_t i = 0; i < actorOrder_.size(); ++i) actorOrder_[i]->SaveSnapshot(actorSnapshots_[i]);
   constraintSnapshots_.resize(constraintOrder_.size());
   for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
-    constraintSnapshots_[i] = constraintOrder_[i]->oldTarget_;
+    constraintSnapshots_[i] = constraintOrder_[i]->GetState().oldTarget;
 
   // the step whole; if it fails, again from the exact pre-step state as 2,
   // 4, ... sub-steps, up to the policy's cap (SubstepParams)
@@ -808,7 +808,7 @@ void Scene::RestorePreStepState() {
   for (std::size_t i = 0; i < actorOrder_.size(); ++i)
     actorOrder_[i]->RestoreSnapshot(*actorSnapshots_[i]);
   for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
-    constraintOrder_[i]->oldTarget_ = constraintSnapshots_[i];
+    constraintOrder_[i]->GetState().oldTarget = constraintSnapshots_[i];
 }
 
 void Scene::SaveOrRestoreSubstepState(bool save) {
@@ -819,15 +819,15 @@ void Scene::SaveOrRestoreSubstepState(bool save) {
     forceValidSnapshots_.resize(n);
   }
   for (std::size_t i = 0; i < n; ++i) {
-    Constraint& c = *constraintOrder_[i];
+    internal::ConstraintState& c = constraintOrder_[i]->GetState();
     if (save) {
-      targetSnapshots_[i] = c.target_;
-      forceSnapshots_[i] = c.force_;
-      forceValidSnapshots_[i] = c.forceValid_;
+      targetSnapshots_[i] = c.target;
+      forceSnapshots_[i] = c.force;
+      forceValidSnapshots_[i] = c.forceValid;
     } else {
-      c.target_ = targetSnapshots_[i];
-      c.force_ = forceSnapshots_[i];
-      c.forceValid_ = forceValidSnapshots_[i];
+      c.target = targetSnapshots_[i];
+      c.force = forceSnapshots_[i];
+      c.forceValid = forceValidSnapshots_[i];
     }
   }
 }
@@ -836,8 +836,9 @@ void Scene::SetSubstepTargets(int index, int substeps) {
   real const s = static_cast<real>(index) / substeps;
   for (std::size_t i = 0; i < constraintOrder_.size(); ++i) {
     // from the old target p̂ᵢ⁰ to the target as the caller set it
-    constraintOrder_[i]->SetTargetBetween(constraintSnapshots_[i], targetSnapshots_[i],
-                                           index == substeps ? real(1) : s);
+    Constraint& c = *constraintOrder_[i];
+    c.GetState().target = internal::InterpolateTarget(c.GetTargetKind(), constraintSnapshots_[i], targetSnapshots_[i],
+                                                      index == substeps ? real(1) : s);
   }
 }
 

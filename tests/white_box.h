@@ -1,9 +1,7 @@
-// White-box access for the derivative tests: the library declares
-// `friend struct internal::ConstraintTestAccess;` in Constraint and leaves it
-// undefined; tests define it here, in one place, as thin forwarders to the
-// private stage interface. ActorTestAccess drives one actor through the
-// stage contract (stage/stage_term.h) as the Newton solver does. Nothing
-// here adds behaviour.
+// White-box access for the derivative tests, in one place: ConstraintTestAccess
+// drives a constraint's kernel and stage state (constraints/constraint_stage.h)
+// and ActorTestAccess one actor through the stage contract (stage/stage_term.h),
+// as the Newton solver does. Nothing here adds behaviour.
 //
 // Also holds the small dense helpers the derivative tests share: reading an
 // assembled Hessian back into natural DoF order, and the tangent-space
@@ -11,6 +9,7 @@
 #pragma once
 
 #include <superdex/assembly/hessian_assembler.h>
+#include <superdex/constraints/constraint_stage.h>
 #include <superdex/stage/own_block_solve.h>
 #include <superdex/stage/stage_term.h>
 #include <superdex/superdex.h>
@@ -20,65 +19,78 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
 
 namespace superdex::internal {
 
+/// A constraint's kernel and its stage state (constraints/constraint_stage.h)
+/// driven by hand, as the ConstraintSet drives them in a stage. Each
+/// constraint gets one ConstraintStage here, made at its first use.
 struct ConstraintTestAccess {
+  static ConstraintStage& Stage(Constraint const& c) {
+    static std::map<Constraint const*, std::unique_ptr<ConstraintStage>> stages;
+    std::unique_ptr<ConstraintStage>& stage = stages[&c];
+    if (!stage || &stage->GetConstraint() != &c) stage = std::make_unique<ConstraintStage>(const_cast<Constraint&>(c));
+    return *stage;
+  }
   /// g and J at the actors' current configuration for `target`, into ws.g /
   /// ws.jacobian (ws must be Reserve(m, n)d).
-  static void Evaluate(Constraint const& c, Span<real const> target, ConstraintWorkspace& ws) {
+  static void Evaluate(Constraint const& c, Span<real const> target, TermWorkspace& ws) {
     c.Evaluate(target, ws);
   }
   /// The same, for the constraint's current target p̂.
-  static void EvaluateCurrent(Constraint const& c, ConstraintWorkspace& ws) {
-    c.Evaluate(c.target_, ws);
-  }
-  static Span<real const> Target(Constraint const& c) { return c.target_; }
-  static Span<real const> OldTarget(Constraint const& c) { return c.oldTarget_; }
+  static void EvaluateCurrent(Constraint const& c, TermWorkspace& ws) { c.Evaluate(c.GetState().target, ws); }
+  static Span<real const> Target(Constraint const& c) { return c.GetState().target; }
+  static Span<real const> OldTarget(Constraint const& c) { return c.GetState().oldTarget; }
   /// Stores g(q⁰, p̂⁰) (the current configuration, the old target) as the
   /// stage-start value.
-  static void BeginStage(Constraint& c, ConstraintWorkspace& ws) { c.BeginStage(1, 0, {}, ws); }
+  static void BeginStage(Constraint& c, TermWorkspace& ws) { BeginStage(c, 1, 0, {}, ws); }
   /// The same with the near-rigid cap β for a stage of duration h and the
   /// scene's per-DoF inverse masses; returns whether the cap applied.
-  static bool BeginStage(Constraint& c, real h, real beta, Span<real const> inverseMasses,
-                         ConstraintWorkspace& ws) {
-    return c.BeginStage(h, beta, inverseMasses, ws);
+  static bool BeginStage(Constraint& c, real h, real beta, Span<real const> inverseMasses, TermWorkspace& ws) {
+    StageContext stage;
+    stage.coefficients.duration = h;
+    stage.nearRigidBeta = beta;
+    stage.inverseMasses = inverseMasses;
+    return Stage(c).Begin(stage, ws);
   }
   /// w, the largest diagonal entry of J diag(inverseMasses) Jᵀ, at the
   /// current configuration and old target (evaluates into ws).
-  static real InverseEffectiveMass(Constraint const& c, Span<real const> inverseMasses,
-                                   ConstraintWorkspace& ws) {
-    c.Evaluate(c.oldTarget_, ws);
-    return c.InverseEffectiveMass(inverseMasses, ws);
+  static real InverseEffectiveMass(Constraint const& c, Span<real const> inverseMasses, TermWorkspace& ws) {
+    c.Evaluate(c.GetState().oldTarget, ws);
+    return Stage(c).InverseEffectiveMass(inverseMasses, ws);
   }
-  /// Φᶜ at the current configuration.
-  static real Energy(Constraint const& c, real h, ConstraintWorkspace& ws) { return c.Energy(h, ws); }
-  static void AddGradientAndHessian(Constraint const& c, real h, Span<real> gradient,
-                                    HessianAssembler& assembler, int contributor,
-                                    ConstraintWorkspace& ws,
-                                    ConstraintHessian mode = ConstraintHessian::GaussNewton,
-                                    bool project = true) {
+  /// Φᶜ at the current configuration, for a stage of duration h.
+  static real Energy(Constraint const& c, real h, TermWorkspace& ws) {
+    Stage(c).SetStage(h, ConstraintHessian::GaussNewton);
+    return Stage(c).Energy(ws);
+  }
+  static void AddGradientAndHessian(Constraint const& c, real h, Span<real> gradient, HessianAssembler& assembler,
+                                    int contributor, TermWorkspace& ws,
+                                    ConstraintHessian mode = ConstraintHessian::GaussNewton, bool project = true) {
+    Stage(c).SetStage(h, mode);
     assembler.BeginAssembly(gradient);
-    c.AddGradientAndHessian(h, assembler, contributor, mode, project, ws);
+    Stage(c).AddGradientAndHessian(assembler, contributor, project, ws);
     assembler.FinishAssembly();
   }
   /// Σᵢ wᵢ ∂²gᵢ/∂q² at the current configuration and target (n×n).
-  /// (Through Constraint::AddCurvature: on an articulated link, the type's
-  /// curvature mapped onto the joint DoFs.)
+  /// (Through the kernel: on an articulated link, the type's curvature
+  /// mapped onto the joint DoFs.)
   static MatrixX Curvature(Constraint const& c, VectorX const& weights) {
-    ConstraintWorkspace ws;
+    TermWorkspace ws;
     ws.Reserve(c.GetDimension(), c.GetNumDofs());
-    c.Evaluate(c.target_, ws);
+    c.Evaluate(c.GetState().target, ws);
     MatrixX hessian = MatrixX::Zero(c.GetNumDofs(), c.GetNumDofs());
-    c.AddCurvature(c.target_, weights, ws, hessian);
+    c.AddCurvature(c.GetState().target, weights, ws, hessian);
     return hessian;
   }
-  static CompliantParams const& Params(Constraint const& c) { return c.params_; }
-  static VectorX const& StageStartValue(Constraint const& c) { return c.stageStartValue_; }
+  static CompliantParams const& Params(Constraint const& c) { return c.GetState().params; }
+  static VectorX const& StageStartValue(Constraint const& c) { return Stage(c).GetStageStartValue(); }
   /// Global DoF list (actor 0's, then actor 1's).
-  static DynamicArray<int> const& Dofs(Constraint const& c) { return c.dofs_; }
+  static DynamicArray<int> const& Dofs(Constraint const& c) { return c.GetDofs(); }
   /// Local DoF list of actor `a` (indices into that actor's own DoFs).
-  static DynamicArray<int> const& LocalDofs(Constraint const& c, int a) { return c.localDofs_[a]; }
+  static DynamicArray<int> const& LocalDofs(Constraint const& c, int a) { return c.GetLocalDofs(a); }
 };
 
 /// The stage contract of an actor (stage/stage_term.h), as the Newton solver

@@ -49,8 +49,8 @@ Constraint* MakeConstraint(Type type, RigidPair& pair, CompliantParams const& co
 }
 
 /// A workspace sized for `c`.
-internal::ConstraintWorkspace SizedWorkspace(Constraint const& c) {
-  internal::ConstraintWorkspace ws;
+internal::TermWorkspace SizedWorkspace(Constraint const& c) {
+  internal::TermWorkspace ws;
   ws.Reserve(c.GetDimension(), c.GetNumDofs());
   return ws;
 }
@@ -72,7 +72,7 @@ internal::HessianAssembler MakeAssembler(Scene const& scene, Constraint const& c
 /// rᶜ in DoF-list order as the stage solver assembles it (and, in
 /// `hessian` if given, the assembled Hessian restricted to those DoFs).
 VectorX Residual(Constraint const& c, internal::HessianAssembler& assembler,
-                 internal::ConstraintWorkspace& ws, MatrixX* hessian = nullptr,
+                 internal::TermWorkspace& ws, MatrixX* hessian = nullptr,
                  ConstraintHessian mode = ConstraintHessian::GaussNewton, bool project = true) {
   VectorX gradient = VectorX::Zero(assembler.GetNumDofs());
   assembler.ZeroValues();
@@ -120,7 +120,7 @@ TEST_CASE("compliant residual matches central differences of the incremental pot
   Pose const startA = RandomPose(0.6, 21), startB = RandomPose(2.4, 22);
   RigidPair pair = MakeRigidPair(startA, startB);
   Constraint* c = MakeConstraint(type, pair, compliance);
-  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
+  internal::TermWorkspace ws = SizedWorkspace(*c);
 
   // between steps the target moves (no UpdateOldTarget): the stage start
   // value differences against the old target p̂⁰ = kTargetPosition
@@ -282,7 +282,7 @@ TEST_CASE("Gauss-Newton Hessian (kappa + d/h) JtJ is symmetric PSD",
   RigidPair pair = MakeRigidPair(RandomPose(0.9, 31), RandomPose(3.0, 32));
   Constraint* c = MakeConstraint(type, pair, compliance);
   int const m = c->GetDimension(), n = c->GetNumDofs();
-  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
+  internal::TermWorkspace ws = SizedWorkspace(*c);
   ConstraintTestAccess::BeginStage(*c, ws);
   Error error;
   REQUIRE(pair.a->SetPose(Real3(0.2, 0.1, -0.3), Quat(Eigen::AngleAxis<real>(1.3, Real3::UnitY())),
@@ -327,7 +327,7 @@ TEST_CASE("Gauss-Newton Hessian equals the finite-difference Jacobian of the res
   RigidPair pair = MakeRigidPair(poseA, poseB);
   Constraint* c = MakeConstraint(type, pair, compliance);
   int const m = c->GetDimension(), n = c->GetNumDofs();
-  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
+  internal::TermWorkspace ws = SizedWorkspace(*c);
   internal::HessianAssembler assembler = MakeAssembler(*pair.scene, *c);
   Error error;
 
@@ -377,7 +377,7 @@ TEST_CASE("away from g = 0 the Gauss-Newton Hessian drops a visible second-deriv
   CompliantParams const compliance{.stiffness = 150, .damping = 4, .saturation = -1};
   RigidPair pair = MakeRigidPair(RandomPose(0.8, 41), RandomPose(2.6, 42));
   Constraint* c = MakeSphericalJoint(pair, compliance);
-  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
+  internal::TermWorkspace ws = SizedWorkspace(*c);
   ConstraintTestAccess::BeginStage(*c, ws);
   REQUIRE(Deviation(*c).norm() > 0.1);
   internal::HessianAssembler assembler = MakeAssembler(*pair.scene, *c);
@@ -429,7 +429,7 @@ TEST_CASE("constraint Hessian: Gauss-Newton, geometric stiffness exact and in it
   RigidPair pair = MakeRigidPair(RandomPose(0.6, 31), RandomPose(2.4, 32));
   Constraint* c = MakeConstraint(type, pair, compliance);
   int const m = c->GetDimension(), n = c->GetNumDofs();
-  internal::ConstraintWorkspace ws = SizedWorkspace(*c);
+  internal::TermWorkspace ws = SizedWorkspace(*c);
   ConstraintTestAccess::BeginStage(*c, ws);
   Error error;
   Pose const poseA = RandomPose(1.1, 33), poseB = RandomPose(2.9, 34);

@@ -80,7 +80,7 @@ void CheckJacobian(Constraint const& c, VectorX const& expectedG,
                    std::array<Row, 3> const& rows = {Row::Active, Row::Active, Row::Active}) {
   int const m = c.GetDimension(), n = c.GetNumDofs();
   REQUIRE(m == 3);
-  internal::ConstraintWorkspace ws;
+  internal::TermWorkspace ws;
   ws.Reserve(m, n);
   ConstraintTestAccess::EvaluateCurrent(c, ws);
   VectorX const g = ws.g.head(m);

@@ -234,7 +234,7 @@ MatrixX CentralDifferenceOverIncrements(Constraint const& c, real eps, F const& 
 inline void CheckJacobian(Scene& /*scene*/, Constraint& c, DynamicArray<int> const& zeroColumns = {},
                           real tolerance = 1e-6) {
   int const m = c.GetDimension(), n = c.GetNumDofs();
-  internal::ConstraintWorkspace ws;
+  internal::TermWorkspace ws;
   ws.Reserve(m, n);
   ConstraintTestAccess::EvaluateCurrent(c, ws);
   MatrixX const jacobian = ws.jacobian.topLeftCorner(m, n);
@@ -267,7 +267,7 @@ inline void CheckCurvature(Constraint const& c, bool curved, real tolerance = 1e
   VectorX weights(m);
   for (int i = 0; i < m; ++i) weights[i] = std::array<real, 3>{0.7, -1.3, 0.45}[i % 3] * (1 + i / 3);
   MatrixX const curvature = ConstraintTestAccess::Curvature(c, weights);
-  internal::ConstraintWorkspace ws;
+  internal::TermWorkspace ws;
   ws.Reserve(m, n);
   auto gradient = [&] {
     ConstraintTestAccess::EvaluateCurrent(c, ws);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
 
 #include <superdex/linsolve/incomplete_cholesky.h>

@@ -92,7 +92,7 @@ TEST_CASE("inside its bounds a range contributes exactly zero", "[scene][range]"
   Hinge h = MakeHinge(*scene);
   // a pose inside the bounds, now and at the stage start
   REQUIRE(h.range->GetRelativeRotation().norm() < 1e-12);
-  internal::ConstraintWorkspace ws;
+  internal::TermWorkspace ws;
   ws.Reserve(3, 6);
   internal::ConstraintTestAccess::BeginStage(*h.range, ws);
   REQUIRE(internal::ConstraintTestAccess::StageStartValue(*h.range).isZero(0));

@@ -113,7 +113,7 @@ TEST_CASE("the effective stiffness matches the hand computation", "[scene][near-
   real const beta = GENERATE(0.5, 1.0, 2.0);
   real const h = GENERATE(1e-3, 1e-2);
   CAPTURE(beta, h);
-  internal::ConstraintWorkspace ws;
+  internal::TermWorkspace ws;
   ws.Reserve(6, 12);
 
   SECTION("rigid pivot: w = 1/m + L²/I") {
