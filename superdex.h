@@ -19,19 +19,8 @@
 #include <superdex/actors/rod_actor.h>
 #include <superdex/actors/rod_element.h>
 
-#include <superdex/constraints/articulated_joint_constraints.h>
 #include <superdex/constraints/constraint.h>
-#include <superdex/constraints/deformable_node_position.h>
-#include <superdex/constraints/deformable_node_to_deformable_node.h>
-#include <superdex/constraints/deformable_node_to_rigid.h>
-#include <superdex/constraints/joint_rotation_range.h>
-#include <superdex/constraints/joint_rotation_tracking.h>
-#include <superdex/constraints/rigid_pivot_position.h>
-#include <superdex/constraints/rigid_pivot_rotation.h>
-#include <superdex/constraints/rigid_pivot_to_rigid_target.h>
-#include <superdex/constraints/rigid_prismatic_joint.h>
-#include <superdex/constraints/rigid_spherical_joint.h>
-#include <superdex/constraints/rod_element_rotation_to_rigid.h>
+#include <superdex/constraints/constraint_type_headers.h>  // every type (constraint_types.h)
 
 #include <superdex/linsolve/linear_solver.h>
 

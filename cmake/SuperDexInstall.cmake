@@ -4,6 +4,7 @@
 #   <prefix>/include/superdex/<folder>/*.h               public headers, same paths as in the tree
 #   <prefix>/include/superdex/superdex.h                 umbrella header
 #   <prefix>/include/superdex/core/config.h              generated build configuration
+#   <prefix>/include/superdex/constraints/constraint_type_headers.h   generated from constraint_types.h
 #   <prefix>/lib/cmake/SuperDex/SuperDex{Config,ConfigVersion,Targets}.cmake
 #
 # Consumers write find_package(SuperDex) and link SuperDex::superdex, which
@@ -42,6 +43,9 @@ install(FILES ${PROJECT_SOURCE_DIR}/superdex.h
   OPTIONAL)
 install(FILES ${PROJECT_BINARY_DIR}/generated/superdex/core/config.h
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/superdex/core
+  COMPONENT development)
+install(FILES ${PROJECT_BINARY_DIR}/generated/superdex/constraints/constraint_type_headers.h
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/superdex/constraints
   COMPONENT development)
 
 # the package: targets, config, version

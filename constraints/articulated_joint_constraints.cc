@@ -1,5 +1,7 @@
 #include <superdex/constraints/articulated_joint_constraints.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/articulated_actor.h>
 #include <superdex/constraints/rotation_residual.h>
 #include <superdex/core/so3.h>
@@ -147,6 +149,48 @@ void Articulated3dRotationConstraint::DoAddCurvature(Span<real const> target,
             .bottomRightCorner<3, 3>() *
         r;
   }
+}
+
+std::unique_ptr<Constraint> ArticulatedSingleDofConstraint::Create(internal::ActorLookup const& scene, ArticulatedSingleDofTargetConstraintParams const& p,
+                                                                  Error& error) {
+  constexpr std::string_view kParams = "ArticulatedSingleDofTargetConstraintParams";
+  ArticulatedActor* a = internal::GetArticulatedJoint(scene, p.actor, p.jointIndex, p.dofIndex, false, kParams, error);
+  if (!a || !internal::CheckFinite(p.target, std::string(kParams) + ".target", error) ||
+      !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<ArticulatedSingleDofConstraint>(a, p);
+}
+
+std::unique_ptr<Constraint> ArticulatedSingleDofConstraint::Create(internal::ActorLookup const& scene, ArticulatedSingleDofRangeConstraintParams const& p,
+                                                                  Error& error) {
+  constexpr std::string_view kParams = "ArticulatedSingleDofRangeConstraintParams";
+  ArticulatedActor* a = internal::GetArticulatedJoint(scene, p.actor, p.jointIndex, p.dofIndex, false, kParams, error);
+  if (!a || !internal::CheckLimits(p.lowerLimit, p.upperLimit, std::string(kParams) + ".lowerLimit/upperLimit", error) ||
+      !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<ArticulatedSingleDofConstraint>(a, p);
+}
+
+std::unique_ptr<Constraint> Articulated3dRotationConstraint::Create(internal::ActorLookup const& scene, Articulated3dRotationTargetConstraintParams const& p,
+                                                                   Error& error) {
+  constexpr std::string_view kParams = "Articulated3dRotationTargetConstraintParams";
+  ArticulatedActor* a = internal::GetArticulatedJoint(scene, p.actor, p.jointIndex, 0, true, kParams, error);
+  if (!a || !internal::CheckField(p.rotation, kParams, "rotation", error) || !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<Articulated3dRotationConstraint>(a, p);
+}
+
+std::unique_ptr<Constraint> Articulated3dRotationConstraint::Create(internal::ActorLookup const& scene, Articulated3dRotationRangeConstraintParams const& p,
+                                                                   Error& error) {
+  constexpr std::string_view kParams = "Articulated3dRotationRangeConstraintParams";
+  ArticulatedActor* a = internal::GetArticulatedJoint(scene, p.actor, p.jointIndex, 0, true, kParams, error);
+  if (!a) return nullptr;
+  for (int j = 0; j < 3; ++j)
+    if (!internal::CheckLimits(p.lowerLimits[j], p.upperLimits[j],
+                     std::string(kParams) + ".lowerLimits/upperLimits[" + std::to_string(j) + "]", error))
+      return nullptr;
+  if (!internal::CheckCompliance(p, kParams, error)) return nullptr;
+  return std::make_unique<Articulated3dRotationConstraint>(a, p);
 }
 
 }  // namespace superdex

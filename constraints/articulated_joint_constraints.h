@@ -18,11 +18,17 @@
 // Units: rad or m; stiffness N·m/rad or N/m.
 #pragma once
 
+#include <memory>
+
 #include <limits>
 
 #include <superdex/constraints/constraint.h>
 
 namespace superdex {
+
+namespace internal {
+class ActorLookup;
+}
 
 class ArticulatedActor;
 
@@ -34,6 +40,20 @@ struct ArticulatedSingleDofTargetConstraintParams {
   real stiffness = 0;       ///< k >= 0
   real damping = 0;         ///< d >= 0
   real saturation = -1;     ///< ḡ; <= 0 disables
+  /// One line on the type, and the fields with their documentation: mochi's
+  /// params class, the API fuzzer and the docs table come from them.
+  static constexpr std::string_view kSummary = "g = θ - θ̂ (m = 1, n = 1): θ a revolute angle, a prismatic offset or a free joint's translation component. Spherical joints and free-joint rotations: use the 3D types.";
+  static constexpr auto Fields() {
+    using P = ArticulatedSingleDofTargetConstraintParams;
+    return std::array{
+        internal::ParamsField<P>{"actor", &P::actor, "an articulated actor"},
+        internal::ParamsField<P>{"jointIndex", &P::jointIndex, "the joint of link joint_index"},
+        internal::ParamsField<P>{"dofIndex", &P::dofIndex, "0, or 0..2 for a free joint's translation"},
+        internal::ParamsField<P>{"target", &P::target, "θ̂ [rad or m]"},
+        internal::ParamsField<P>{"stiffness", &P::stiffness, "stiffness k >= 0 [N·m/rad or N/m], default 0"},
+        internal::ParamsField<P>{"damping", &P::damping, "damping d >= 0 [N·m·s/rad or N·s/m], default 0"},
+        internal::ParamsField<P>{"saturation", &P::saturation, "saturation ḡ [rad or m]: the elastic force is capped at k·ḡ; <= 0 (default -1) disables it"}};
+  }
 };
 
 struct ArticulatedSingleDofRangeConstraintParams {
@@ -45,6 +65,21 @@ struct ArticulatedSingleDofRangeConstraintParams {
   real stiffness = 0;
   real damping = 0;
   real saturation = -1;
+  /// One line on the type, and the fields with their documentation: mochi's
+  /// params class, the API fuzzer and the docs table come from them.
+  static constexpr std::string_view kSummary = "g = max(θ - u, l - θ, 0) (m = 1, n = 1): mechanical joint limits.";
+  static constexpr auto Fields() {
+    using P = ArticulatedSingleDofRangeConstraintParams;
+    return std::array{
+        internal::ParamsField<P>{"actor", &P::actor, "an articulated actor"},
+        internal::ParamsField<P>{"jointIndex", &P::jointIndex, "the joint of link joint_index"},
+        internal::ParamsField<P>{"dofIndex", &P::dofIndex, "0, or 0..2 for a free joint's translation"},
+        internal::ParamsField<P>{"lowerLimit", &P::lowerLimit, "l, <= upper_limit, default -inf"},
+        internal::ParamsField<P>{"upperLimit", &P::upperLimit, "u, default +inf"},
+        internal::ParamsField<P>{"stiffness", &P::stiffness, "stiffness k >= 0 [N·m/rad or N/m], default 0"},
+        internal::ParamsField<P>{"damping", &P::damping, "damping d >= 0 [N·m·s/rad or N·s/m], default 0"},
+        internal::ParamsField<P>{"saturation", &P::saturation, "saturation ḡ [rad or m]: the elastic force is capped at k·ḡ; <= 0 (default -1) disables it"}};
+  }
 };
 
 struct Articulated3dRotationTargetConstraintParams {
@@ -55,6 +90,20 @@ struct Articulated3dRotationTargetConstraintParams {
   real stiffness = 0;                 ///< [N·m/rad]
   real damping = 0;
   real saturation = -1;
+  /// One line on the type, and the fields with their documentation: mochi's
+  /// params class, the API fuzzer and the docs table come from them.
+  static constexpr std::string_view kSummary = "g = Log(R_j R̂⁻¹) (m = 3, n = 3) on a spherical or free joint; the target is in the joint's frame relative to its rest orientation (identity = rest).";
+  static constexpr auto Fields() {
+    using P = Articulated3dRotationTargetConstraintParams;
+    return std::array{
+        internal::ParamsField<P>{"actor", &P::actor, "an articulated actor"},
+        internal::ParamsField<P>{"jointIndex", &P::jointIndex, "a spherical or free joint"},
+        internal::ParamsField<P>{"targetFromCurrent", &P::targetFromCurrent, "R̂ = the creation-time R_j (default True)"},
+        internal::ParamsField<P>{"rotation", &P::rotation, "R̂ when not target_from_current [w, x, y, z]"},
+        internal::ParamsField<P>{"stiffness", &P::stiffness, "stiffness k >= 0 [N·m/rad], default 0"},
+        internal::ParamsField<P>{"damping", &P::damping, "damping d >= 0 [N·m·s/rad], default 0"},
+        internal::ParamsField<P>{"saturation", &P::saturation, "saturation ḡ [rad]: the elastic force is capped at k·ḡ; <= 0 (default -1) disables it"}};
+  }
 };
 
 struct Articulated3dRotationRangeConstraintParams {
@@ -65,11 +114,33 @@ struct Articulated3dRotationRangeConstraintParams {
   real stiffness = 0;
   real damping = 0;
   real saturation = -1;
+  /// One line on the type, and the fields with their documentation: mochi's
+  /// params class, the API fuzzer and the docs table come from them.
+  static constexpr std::string_view kSummary = "Independent bounds on each component of Log(R_j) (m = 3, n = 3), one-sided violation.";
+  static constexpr auto Fields() {
+    using P = Articulated3dRotationRangeConstraintParams;
+    return std::array{
+        internal::ParamsField<P>{"actor", &P::actor, "an articulated actor"},
+        internal::ParamsField<P>{"jointIndex", &P::jointIndex, "a spherical or free joint"},
+        internal::ParamsField<P>{"lowerLimits", &P::lowerLimits, "on Log(R_j) [rad], -inf for no bound"},
+        internal::ParamsField<P>{"upperLimits", &P::upperLimits, "[rad], +inf for no bound"},
+        internal::ParamsField<P>{"stiffness", &P::stiffness, "stiffness k >= 0 [N·m/rad], default 0"},
+        internal::ParamsField<P>{"damping", &P::damping, "damping d >= 0 [N·m·s/rad], default 0"},
+        internal::ParamsField<P>{"saturation", &P::saturation, "saturation ḡ [rad]: the elastic force is capped at k·ḡ; <= 0 (default -1) disables it"}};
+  }
 };
 
 /// ArticulatedSingleDofTarget and ArticulatedSingleDofRange.
 class ArticulatedSingleDofConstraint final : public Constraint {
  public:
+  /// Validates `params` against the scene's actors and creates the
+  /// constraint; nullptr and `error` naming the field on bad input.
+  static std::unique_ptr<Constraint> Create(internal::ActorLookup const& scene, ArticulatedSingleDofRangeConstraintParams const& params,
+                                            Error& error);
+  /// Validates `params` against the scene's actors and creates the
+  /// constraint; nullptr and `error` naming the field on bad input.
+  static std::unique_ptr<Constraint> Create(internal::ActorLookup const& scene, ArticulatedSingleDofTargetConstraintParams const& params,
+                                            Error& error);
   ArticulatedSingleDofConstraint(ArticulatedActor* actor, ArticulatedSingleDofTargetConstraintParams const& params);
   ArticulatedSingleDofConstraint(ArticulatedActor* actor, ArticulatedSingleDofRangeConstraintParams const& params);
   /// θ now.
@@ -88,6 +159,14 @@ class ArticulatedSingleDofConstraint final : public Constraint {
 /// Articulated3dRotationTarget and Articulated3dRotationRange.
 class Articulated3dRotationConstraint final : public Constraint {
  public:
+  /// Validates `params` against the scene's actors and creates the
+  /// constraint; nullptr and `error` naming the field on bad input.
+  static std::unique_ptr<Constraint> Create(internal::ActorLookup const& scene, Articulated3dRotationRangeConstraintParams const& params,
+                                            Error& error);
+  /// Validates `params` against the scene's actors and creates the
+  /// constraint; nullptr and `error` naming the field on bad input.
+  static std::unique_ptr<Constraint> Create(internal::ActorLookup const& scene, Articulated3dRotationTargetConstraintParams const& params,
+                                            Error& error);
   Articulated3dRotationConstraint(ArticulatedActor* actor, Articulated3dRotationTargetConstraintParams const& params);
   Articulated3dRotationConstraint(ArticulatedActor* actor, Articulated3dRotationRangeConstraintParams const& params);
   /// φ = Log(R_j) now.

@@ -19,7 +19,10 @@
 
 #include <string_view>
 
+#include <array>
+
 #include <superdex/constraints/compliant_potential.h>
+#include <superdex/constraints/constraint_params.h>
 #include <superdex/constraints/constraint_kernel.h>
 #include <superdex/core/error.h>
 #include <superdex/core/handle.h>

@@ -10,21 +10,10 @@ namespace superdex {
 
 std::string_view ToString(ConstraintType type) {
   switch (type) {
-    case ConstraintType::RigidSphericalJoint: return "RigidSphericalJoint";
-    case ConstraintType::RigidPrismaticJoint: return "RigidPrismaticJoint";
-    case ConstraintType::JointRotationRange: return "JointRotationRange";
-    case ConstraintType::JointRotationTracking: return "JointRotationTracking";
-    case ConstraintType::RigidPivotPosition: return "RigidPivotPosition";
-    case ConstraintType::RigidPivotToRigidTarget: return "RigidPivotToRigidTarget";
-    case ConstraintType::RigidPivotRotation: return "RigidPivotRotation";
-    case ConstraintType::DeformableNodePosition: return "DeformableNodePosition";
-    case ConstraintType::DeformableNodeToDeformableNode: return "DeformableNodeToDeformableNode";
-    case ConstraintType::DeformableNodeToRigid: return "DeformableNodeToRigid";
-    case ConstraintType::ArticulatedSingleDofTarget: return "ArticulatedSingleDofTarget";
-    case ConstraintType::ArticulatedSingleDofRange: return "ArticulatedSingleDofRange";
-    case ConstraintType::Articulated3dRotationTarget: return "Articulated3dRotationTarget";
-    case ConstraintType::Articulated3dRotationRange: return "Articulated3dRotationRange";
-    case ConstraintType::RodElementRotationToRigid: return "RodElementRotationToRigid";
+#define SUPERDEX_CONSTRAINT_TYPE_NAME(Name, Class, file) \
+  case ConstraintType::Name: return #Name;
+    SUPERDEX_CONSTRAINT_TYPES(SUPERDEX_CONSTRAINT_TYPE_NAME)
+#undef SUPERDEX_CONSTRAINT_TYPE_NAME
   }
   return "Unknown";
 }

@@ -19,6 +19,7 @@
 #include <array>
 #include <string_view>
 
+#include <superdex/constraints/constraint_types.h>
 #include <superdex/core/types.h>
 #include <superdex/stage/link_path.h>
 #include <superdex/stage/term_workspace.h>
@@ -27,22 +28,11 @@ namespace superdex {
 
 class Actor;
 
+/// The constraint types (constraint_types.h: one line each).
 enum class ConstraintType {
-  RigidSphericalJoint,
-  RigidPrismaticJoint,
-  JointRotationRange,
-  JointRotationTracking,
-  RigidPivotPosition,
-  RigidPivotToRigidTarget,
-  RigidPivotRotation,
-  DeformableNodePosition,
-  DeformableNodeToDeformableNode,
-  DeformableNodeToRigid,
-  ArticulatedSingleDofTarget,
-  ArticulatedSingleDofRange,
-  Articulated3dRotationTarget,
-  Articulated3dRotationRange,
-  RodElementRotationToRigid,
+#define SUPERDEX_CONSTRAINT_TYPE_VALUE(Name, Class, file) Name,
+  SUPERDEX_CONSTRAINT_TYPES(SUPERDEX_CONSTRAINT_TYPE_VALUE)
+#undef SUPERDEX_CONSTRAINT_TYPE_VALUE
 };
 
 std::string_view ToString(ConstraintType type);

@@ -1,5 +1,7 @@
 #include <superdex/constraints/deformable_node_position.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/nodal_actor.h>
 
 namespace superdex {
@@ -21,6 +23,15 @@ void DeformableNodePositionConstraint::DoEvaluate(Span<real const> target, Eigen
                                                   Eigen::Ref<MatrixX> jacobian) const {
   g = actor_->GetNodePosition(node_) - TargetPosition(target);
   jacobian = actor_->GetTransformRotation().toRotationMatrix();
+}
+
+std::unique_ptr<Constraint> DeformableNodePositionConstraint::Create(internal::ActorLookup const& scene, DeformableNodePositionConstraintParams const& p,
+                                                                    Error& error) {
+  constexpr std::string_view kParams = "DeformableNodePositionConstraintParams";
+  NodalActor* a = internal::GetDeformableNode(scene, p.actor, p.nodeIndex, kParams, "actor", "nodeIndex", error);
+  if (!a || !internal::CheckField(p.position, kParams, "position", error) || !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<DeformableNodePositionConstraint>(a, p);
 }
 
 }  // namespace superdex

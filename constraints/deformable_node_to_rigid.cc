@@ -1,5 +1,7 @@
 #include <superdex/constraints/deformable_node_to_rigid.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/rotation_residual.h>
@@ -38,6 +40,18 @@ void DeformableNodeToRigidConstraint::DoAddCurvature(Span<real const>, Eigen::Re
   // the node's world position is linear in its displacement
   hessian.block<3, 3>(6, 6) +=
       internal::RotatedVectorCurvature(weights.head<3>(), BodyRotation(1) * localPos_);
+}
+
+std::unique_ptr<Constraint> DeformableNodeToRigidConstraint::Create(internal::ActorLookup const& scene, DeformableNodeToRigidConstraintParams const& p,
+                                                                   Error& error) {
+  constexpr std::string_view kParams = "DeformableNodeToRigidConstraintParams";
+  NodalActor* d = internal::GetDeformableNode(scene, p.deformableActor, p.deformableNodeIndex, kParams,
+                                         "deformableActor", "deformableNodeIndex", error);
+  if (!d) return nullptr;
+  internal::RigidBodySlot r;
+  if (!internal::GetRigidBody(scene, p.rigidActor, p.rigidLink, kParams, "rigidActor", "rigidLink", r, error) || !internal::CheckField(p.localPos, kParams, "localPos", error) || !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<DeformableNodeToRigidConstraint>(d, r, p);
 }
 
 }  // namespace superdex

@@ -1,5 +1,7 @@
 #include <superdex/constraints/joint_rotation_range.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/rotation_residual.h>
 
@@ -64,6 +66,23 @@ void JointRotationRangeConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<V
     w[j] = slope * weights[j];
   }
   hessian.topLeftCorner<6, 6>() += internal::RotationResidualCurvature(left, right, w);
+}
+
+std::unique_ptr<Constraint> JointRotationRangeConstraint::Create(internal::ActorLookup const& scene, JointRotationRangeConstraintParams const& p,
+                                                                Error& error) {
+  constexpr std::string_view kParams = "JointRotationRangeConstraintParams";
+  internal::RigidBodySlot a, b;
+  if (!internal::GetRigidPair(scene, p, kParams, a, b, error) ||
+      !internal::CheckField(p.jointFrame, kParams, "jointFrame", error) ||
+      !internal::CheckField(p.referenceRotation, kParams, "referenceRotation", error) ||
+      !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  for (int j = 0; j < 3; ++j)
+    if (!internal::CheckLimits(p.lowerLimits[j], p.upperLimits[j],
+                     std::string(kParams) + ".lowerLimits/upperLimits[" + std::to_string(j) + "]",
+                     error))
+      return nullptr;
+  return std::make_unique<JointRotationRangeConstraint>(a, b, p);
 }
 
 }  // namespace superdex

@@ -1,5 +1,7 @@
 #include <superdex/constraints/joint_rotation_tracking.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/rotation_residual.h>
 
@@ -36,6 +38,16 @@ void JointRotationTrackingConstraint::DoAddCurvature(Span<real const> target,
   hessian.topLeftCorner<6, 6>() += internal::RotationResidualCurvature(
       BodyRotation(0) * TargetRotation(target) * frameInA_, BodyRotation(1) * frameInA_,
       weights.head<3>());
+}
+
+std::unique_ptr<Constraint> JointRotationTrackingConstraint::Create(internal::ActorLookup const& scene, JointRotationTrackingConstraintParams const& p,
+                                                                   Error& error) {
+  constexpr std::string_view kParams = "JointRotationTrackingConstraintParams";
+  internal::RigidBodySlot a, b;
+  if (!internal::GetRigidPair(scene, p, kParams, a, b, error) ||
+      !internal::CheckField(p.jointFrame, kParams, "jointFrame", error) || !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<JointRotationTrackingConstraint>(a, b, p);
 }
 
 }  // namespace superdex

@@ -1,5 +1,7 @@
 #include <superdex/constraints/rigid_pivot_position.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/rotation_residual.h>
 #include <superdex/core/so3.h>
@@ -32,6 +34,16 @@ void RigidPivotPositionConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<V
                                                   Eigen::Ref<MatrixX> hessian) const {
   hessian.block<3, 3>(3, 3) +=
       internal::RotatedVectorCurvature(weights.head<3>(), BodyRotation(0) * localPos_);
+}
+
+std::unique_ptr<Constraint> RigidPivotPositionConstraint::Create(internal::ActorLookup const& scene, RigidPivotPositionConstraintParams const& p,
+                                                                Error& error) {
+  constexpr std::string_view kParams = "RigidPivotPositionConstraintParams";
+  internal::RigidBodySlot a;
+  if (!internal::GetRigidBody(scene, p.actor, p.link, kParams, "actor", "link", a, error) || !internal::CheckField(p.localPos, kParams, "localPos", error) ||
+      !internal::CheckField(p.position, kParams, "position", error) || !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<RigidPivotPositionConstraint>(a, p);
 }
 
 }  // namespace superdex

@@ -1,5 +1,7 @@
 #include <superdex/constraints/rigid_pivot_rotation.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/rotation_residual.h>
 
@@ -37,6 +39,16 @@ void RigidPivotRotationConstraint::DoAddCurvature(Span<real const> target,
                                           BodyRotation(0) * localRotation_ * TargetRotation(target).conjugate(),
                                           weights.head<3>())
           .bottomRightCorner<3, 3>();
+}
+
+std::unique_ptr<Constraint> RigidPivotRotationConstraint::Create(internal::ActorLookup const& scene, RigidPivotRotationConstraintParams const& p,
+                                                                Error& error) {
+  constexpr std::string_view kParams = "RigidPivotRotationConstraintParams";
+  internal::RigidBodySlot a;
+  if (!internal::GetRigidBody(scene, p.actor, p.link, kParams, "actor", "link", a, error) || !internal::CheckField(p.localRotation, kParams, "localRotation", error) ||
+      !internal::CheckField(p.rotation, kParams, "rotation", error) || !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<RigidPivotRotationConstraint>(a, p);
 }
 
 }  // namespace superdex

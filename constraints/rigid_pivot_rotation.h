@@ -8,9 +8,15 @@
 // Units: rad; stiffness N·m/rad, damping N·m·s/rad.
 #pragma once
 
+#include <memory>
+
 #include <superdex/constraints/constraint.h>
 
 namespace superdex {
+
+namespace internal {
+class ActorLookup;
+}
 
 
 struct RigidPivotRotationConstraintParams {
@@ -21,10 +27,28 @@ struct RigidPivotRotationConstraintParams {
   real stiffness = 0;                      ///< k >= 0 [N·m/rad]
   real damping = 0;                        ///< d >= 0 [N·m·s/rad]
   real saturation = -1;                    ///< ḡ [rad]; <= 0 disables
+  /// One line on the type, and the fields with their documentation: mochi's
+  /// params class, the API fuzzer and the docs table come from them.
+  static constexpr std::string_view kSummary = "g = Log(R R_ℓ R̂⁻¹) (m = 3, n = 3: the body's rotation DoFs).";
+  static constexpr auto Fields() {
+    using P = RigidPivotRotationConstraintParams;
+    return std::array{
+        internal::ParamsField<P>{"actor", &P::actor, "a rigid actor, or an articulated actor with link"},
+        internal::ParamsField<P>{"link", &P::link, "the articulated actor\'s link acting as the body (-1: a rigid actor)"},
+        internal::ParamsField<P>{"localRotation", &P::localRotation, "pivot frame R_ℓ in the body frame [w, x, y, z]"},
+        internal::ParamsField<P>{"rotation", &P::rotation, "target R̂, world [w, x, y, z]"},
+        internal::ParamsField<P>{"stiffness", &P::stiffness, "stiffness k >= 0 [N·m/rad], default 0"},
+        internal::ParamsField<P>{"damping", &P::damping, "damping d >= 0 [N·m·s/rad], default 0"},
+        internal::ParamsField<P>{"saturation", &P::saturation, "saturation ḡ [rad]: the elastic force is capped at k·ḡ; <= 0 (default -1) disables it"}};
+  }
 };
 
 class RigidPivotRotationConstraint final : public Constraint {
  public:
+  /// Validates `params` against the scene's actors and creates the
+  /// constraint; nullptr and `error` naming the field on bad input.
+  static std::unique_ptr<Constraint> Create(internal::ActorLookup const& scene, RigidPivotRotationConstraintParams const& params,
+                                            Error& error);
   RigidPivotRotationConstraint(internal::RigidBodySlot body, RigidPivotRotationConstraintParams const& params);
 
   Quat const& GetLocalRotation() const { return localRotation_; }

@@ -1,5 +1,7 @@
 #include <superdex/constraints/rigid_pivot_to_rigid_target.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/rotation_residual.h>
 #include <superdex/core/so3.h>
@@ -37,6 +39,17 @@ void RigidPivotToRigidTargetConstraint::DoAddCurvature(Span<real const>,
   // the target point is prescribed data: only the body's arm turns
   hessian.block<3, 3>(3, 3) +=
       internal::RotatedVectorCurvature(weights.head<3>(), BodyRotation(0) * localPos_);
+}
+
+std::unique_ptr<Constraint> RigidPivotToRigidTargetConstraint::Create(internal::ActorLookup const& scene, RigidPivotToRigidTargetConstraintParams const& p,
+                                                                     Error& error) {
+  constexpr std::string_view kParams = "RigidPivotToRigidTargetConstraintParams";
+  internal::RigidBodySlot a;
+  if (!internal::GetRigidBody(scene, p.actor, p.link, kParams, "actor", "link", a, error) || !internal::CheckField(p.localPos, kParams, "localPos", error) ||
+      !internal::CheckField(p.position, kParams, "position", error) ||
+      !internal::CheckField(p.rotation, kParams, "rotation", error) || !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<RigidPivotToRigidTargetConstraint>(a, p);
 }
 
 }  // namespace superdex

@@ -1,5 +1,7 @@
 #include <superdex/constraints/rigid_prismatic_joint.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/rotation_residual.h>
 #include <superdex/core/so3.h>
@@ -69,6 +71,19 @@ void RigidPrismaticJointConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<
   hessian.block<3, 3>(6, 3) -= coupling;
   hessian.block<3, 3>(3, 0) -= coupling;
   hessian.block<3, 3>(0, 3) += coupling;
+}
+
+std::unique_ptr<Constraint> RigidPrismaticJointConstraint::Create(internal::ActorLookup const& scene, RigidPrismaticJointConstraintParams const& p,
+                                                                 Error& error) {
+  constexpr std::string_view kParams = "RigidPrismaticJointConstraintParams";
+  internal::RigidBodySlot a, b;
+  if (!internal::GetRigidPair(scene, p, kParams, a, b, error) ||
+      !internal::CheckField(p.jointFrame, kParams, "jointFrame", error) ||
+      !internal::CheckField(p.referenceOffset, kParams, "referenceOffset", error) ||
+      !internal::CheckLimits(p.lowerLimit, p.upperLimit, std::string(kParams) + ".lowerLimit/upperLimit", error) ||
+      !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<RigidPrismaticJointConstraint>(a, b, p);
 }
 
 }  // namespace superdex

@@ -19,11 +19,17 @@
 // Units: m; stiffness N/m, damping N·s/m.
 #pragma once
 
+#include <memory>
+
 #include <limits>
 
 #include <superdex/constraints/constraint.h>
 
 namespace superdex {
+
+namespace internal {
+class ActorLookup;
+}
 
 
 struct RigidPrismaticJointConstraintParams {
@@ -39,10 +45,33 @@ struct RigidPrismaticJointConstraintParams {
   real stiffness = 0;                      ///< k >= 0 [N/m]
   real damping = 0;                        ///< d >= 0 [N·s/m]
   real saturation = -1;                    ///< ḡ [m]; <= 0 disables
+  /// One line on the type, and the fields with their documentation: mochi's
+  /// params class, the API fuzzer and the docs table come from them.
+  static constexpr std::string_view kSummary = "Slider: s = R₀⁻¹ R_A⁻¹ (t_B - t_A) - s_ref; g₁ = s₁, g₂ = s₂, g₃ the signed violation of s₃ against the travel limits (m = 3, n = 9). Does not restrict relative rotation (add a JointRotationTracking); its limits are not reported by get_limit_min/max_values.";
+  static constexpr auto Fields() {
+    using P = RigidPrismaticJointConstraintParams;
+    return std::array{
+        internal::ParamsField<P>{"actorA", &P::actorA, "a rigid actor"},
+        internal::ParamsField<P>{"actorB", &P::actorB, "a different rigid actor"},
+        internal::ParamsField<P>{"linkA", &P::linkA, "the link of an articulated actor_a acting as body A (-1: a rigid actor)"},
+        internal::ParamsField<P>{"linkB", &P::linkB, "the link of an articulated actor_b acting as body B (-1: a rigid actor)"},
+        internal::ParamsField<P>{"jointFrame", &P::jointFrame, "joint frame, world, at creation [w, x, y, z]; z = sliding axis"},
+        internal::ParamsField<P>{"offsetAroundRest", &P::offsetAroundRest, "s_ref = the creation-time offset (default True)"},
+        internal::ParamsField<P>{"referenceOffset", &P::referenceOffset, "s_ref when not offset_around_rest [m], joint frame"},
+        internal::ParamsField<P>{"lowerLimit", &P::lowerLimit, "l on s₃ [m], default -inf"},
+        internal::ParamsField<P>{"upperLimit", &P::upperLimit, "u on s₃ [m], >= l, default +inf"},
+        internal::ParamsField<P>{"stiffness", &P::stiffness, "stiffness k >= 0 [N/m], default 0"},
+        internal::ParamsField<P>{"damping", &P::damping, "damping d >= 0 [N·s/m], default 0"},
+        internal::ParamsField<P>{"saturation", &P::saturation, "saturation ḡ [m]: the elastic force is capped at k·ḡ; <= 0 (default -1) disables it"}};
+  }
 };
 
 class RigidPrismaticJointConstraint final : public Constraint {
  public:
+  /// Validates `params` against the scene's actors and creates the
+  /// constraint; nullptr and `error` naming the field on bad input.
+  static std::unique_ptr<Constraint> Create(internal::ActorLookup const& scene, RigidPrismaticJointConstraintParams const& params,
+                                            Error& error);
   RigidPrismaticJointConstraint(internal::RigidBodySlot bodyA, internal::RigidBodySlot bodyB,
                                 RigidPrismaticJointConstraintParams const& params);
 

@@ -1,5 +1,7 @@
 #include <superdex/constraints/rigid_spherical_joint.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/constraints/rotation_residual.h>
 #include <superdex/core/so3.h>
@@ -36,6 +38,17 @@ void RigidSphericalJointConstraint::DoAddCurvature(Span<real const>, Eigen::Ref<
   Real3 const w = weights.head<3>();
   hessian.block<3, 3>(3, 3) += internal::RotatedVectorCurvature(w, BodyRotation(0) * localPosA_);
   hessian.block<3, 3>(9, 9) -= internal::RotatedVectorCurvature(w, BodyRotation(1) * localPosB_);
+}
+
+std::unique_ptr<Constraint> RigidSphericalJointConstraint::Create(internal::ActorLookup const& scene, RigidSphericalJointConstraintParams const& p,
+                                                                 Error& error) {
+  constexpr std::string_view kParams = "RigidSphericalJointConstraintParams";
+  internal::RigidBodySlot a, b;
+  if (!internal::GetRigidPair(scene, p, kParams, a, b, error) ||
+      !internal::CheckField(p.localPosA, kParams, "localPosA", error) ||
+      !internal::CheckField(p.localPosB, kParams, "localPosB", error) || !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<RigidSphericalJointConstraint>(a, b, p);
 }
 
 }  // namespace superdex

@@ -1,5 +1,7 @@
 #include <superdex/constraints/rod_element_rotation_to_rigid.h>
 
+#include <superdex/constraints/constraint_validation.h>
+
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/actors/rod_actor.h>
 #include <superdex/constraints/rotation_residual.h>
@@ -71,6 +73,24 @@ void RodElementRotationToRigidConstraint::DoAddCurvature(Span<real const> target
   map.block<3, 3>(3, 7).setIdentity();
   map(6, 6) = 1;
   hessian.topLeftCorner<11, 11>() += map.transpose() * contracted.hessian * map;
+}
+
+std::unique_ptr<Constraint> RodElementRotationToRigidConstraint::Create(internal::ActorLookup const& scene, RodElementRotationToRigidConstraintParams const& p,
+                                                                       Error& error) {
+  constexpr std::string_view kParams = "RodElementRotationToRigidConstraintParams";
+  internal::RigidBodySlot r;
+  if (!internal::GetRigidBody(scene, p.rigidActor, p.rigidLink, kParams, "rigidActor", "rigidLink", r, error)) return nullptr;
+  RodActor* rod = internal::GetActorAs<RodActor>(scene, p.rodActor, std::string(kParams) + ".rodActor", error);
+  if (!rod) return nullptr;
+  if (p.elementIndex < 0 || p.elementIndex >= rod->GetNumElements()) {
+    error.Set(ErrorCode::InvalidArgument, std::string(kParams) + ".elementIndex must be in [0, " +
+                                              std::to_string(rod->GetNumElements()) + "), got " +
+                                              std::to_string(p.elementIndex));
+    return nullptr;
+  }
+  if (!internal::CheckField(p.jointFrame, kParams, "jointFrame", error) || !internal::CheckCompliance(p, kParams, error))
+    return nullptr;
+  return std::make_unique<RodElementRotationToRigidConstraint>(r, rod, p);
 }
 
 }  // namespace superdex

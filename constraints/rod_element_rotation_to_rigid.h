@@ -18,9 +18,15 @@
 // constraint on the end element. Units: rad; stiffness N·m/rad.
 #pragma once
 
+#include <memory>
+
 #include <superdex/constraints/constraint.h>
 
 namespace superdex {
+
+namespace internal {
+class ActorLookup;
+}
 
 class RodActor;
 
@@ -33,10 +39,29 @@ struct RodElementRotationToRigidConstraintParams {
   real stiffness = 0;                  ///< k >= 0 [N·m/rad]
   real damping = 0;                    ///< d >= 0 [N·m·s/rad]
   real saturation = -1;                ///< ḡ [rad]; <= 0 disables
+  /// One line on the type, and the fields with their documentation: mochi's
+  /// params class, the API fuzzer and the docs table come from them.
+  static constexpr std::string_view kSummary = "g = Log((R_R R̂ R₀)⁻¹ R_e R₀) (m = 3, n = 11: the body's 3 rotation DoFs, the element's 8). The target starts as the creation-time relative rotation.";
+  static constexpr auto Fields() {
+    using P = RodElementRotationToRigidConstraintParams;
+    return std::array{
+        internal::ParamsField<P>{"rigidActor", &P::rigidActor, "a rigid actor, or an articulated actor with rigid_link"},
+        internal::ParamsField<P>{"rigidLink", &P::rigidLink, "the articulated actor\'s link acting as the rigid body (-1: a rigid actor)"},
+        internal::ParamsField<P>{"rodActor", &P::rodActor, "a rod actor"},
+        internal::ParamsField<P>{"elementIndex", &P::elementIndex, "element e = (e, e+1) of the rod"},
+        internal::ParamsField<P>{"jointFrame", &P::jointFrame, "R₀, world, at creation [w, x, y, z]"},
+        internal::ParamsField<P>{"stiffness", &P::stiffness, "stiffness k >= 0 [N·m/rad], default 0"},
+        internal::ParamsField<P>{"damping", &P::damping, "damping d >= 0 [N·m·s/rad], default 0"},
+        internal::ParamsField<P>{"saturation", &P::saturation, "saturation ḡ [rad]: the elastic force is capped at k·ḡ; <= 0 (default -1) disables it"}};
+  }
 };
 
 class RodElementRotationToRigidConstraint final : public Constraint {
  public:
+  /// Validates `params` against the scene's actors and creates the
+  /// constraint; nullptr and `error` naming the field on bad input.
+  static std::unique_ptr<Constraint> Create(internal::ActorLookup const& scene, RodElementRotationToRigidConstraintParams const& params,
+                                            Error& error);
   RodElementRotationToRigidConstraint(internal::RigidBodySlot rigid, RodActor* rod,
                                       RodElementRotationToRigidConstraintParams const& params);
 

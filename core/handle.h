@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
 
 namespace superdex {
 
@@ -27,6 +28,13 @@ struct ActorTag {};
 struct ConstraintTag {};
 using ActorHandle = Handle<ActorTag>;
 using ConstraintHandle = Handle<ConstraintTag>;
+
+/// "{index i, generation g, scene s}", for error messages.
+template <class Tag>
+std::string HandleText(Handle<Tag> h) {
+  return "{index " + std::to_string(h.index) + ", generation " + std::to_string(h.generation) + ", scene " +
+         std::to_string(h.scene) + "}";
+}
 
 }  // namespace superdex
 

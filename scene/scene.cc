@@ -12,15 +12,9 @@
 namespace superdex {
 
 namespace {
-template <class Tag>
-std::string HandleText(Handle<Tag> h) {
-  return "{index " + std::to_string(h.index) + ", generation " + std::to_string(h.generation) +
-         ", scene " + std::to_string(h.scene) + "}";
-}
-
 /// Why `map` has no object for `h`: issued by another scene, or null/stale.
 template <class T, class Tag>
-std::string WhyNotFound(internal::SlotMap<T, Tag> const& map, Handle<Tag> h, std::uint32_t sceneId) {
+std::string WhyMissing(internal::SlotMap<T, Tag> const& map, Handle<Tag> h, std::uint32_t sceneId) {
   if (map.IsForeign(h))
     return "belongs to another scene (this is scene " + std::to_string(sceneId) + ")";
   return "is null or stale";
@@ -209,7 +203,7 @@ bool Scene::DestroyActor(ActorHandle handle, Error& error) {
   Actor* actor = actors_.Get(handle);
   if (!actor) {
     error.Set(ErrorCode::InvalidHandle, "DestroyActor: actor handle " + HandleText(handle) + " " +
-                                             WhyNotFound(actors_, handle, id_));
+                                             WhyMissing(actors_, handle, id_));
     return false;
   }
   // every constraint that references the actor goes with it
@@ -226,142 +220,9 @@ bool Scene::DestroyActor(ActorHandle handle, Error& error) {
 
 // ---- constraints ----
 
-template <class T>
-T* Scene::GetActorAs(ActorHandle handle, std::string_view field, Error& error) const {
-  // NodalActor: deformable or rod
-  constexpr bool kNodal = std::is_same_v<T, NodalActor>;
-  constexpr ActorType kType = std::is_same_v<T, RigidActor>         ? ActorType::Rigid
-                              : std::is_same_v<T, RodActor>         ? ActorType::Rod
-                              : std::is_same_v<T, ArticulatedActor> ? ActorType::Articulated
-                                                                    : ActorType::Deformable;
-  Actor* actor = actors_.Get(handle);
-  if (!actor) {
-    error.Set(ErrorCode::InvalidHandle,
-              std::string(field) + ": actor handle " + HandleText(handle) + " " +
-                  WhyNotFound(actors_, handle, id_));
-    return nullptr;
-  }
-  bool const matches = kNodal ? (actor->GetType() == ActorType::Deformable || actor->GetType() == ActorType::Rod)
-                              : actor->GetType() == kType;
-  if (!matches) {
-    error.Set(ErrorCode::InvalidHandle, std::string(field) + ": actor " + HandleText(handle) + " is a " +
-                                            std::string(ToString(actor->GetType())) + " actor, expected a " +
-                                            (kNodal ? std::string("Deformable or Rod") : std::string(ToString(kType))) +
-                                            " actor");
-    return nullptr;
-  }
-  return static_cast<T*>(actor);
-}
-
-NodalActor* Scene::GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
-                                          std::string_view actorField, std::string_view nodeField,
-                                          Error& error) const {
-  std::string const prefix = std::string(paramsName) + ".";
-  auto* actor = GetActorAs<NodalActor>(handle, prefix + std::string(actorField), error);
-  if (!actor) return nullptr;
-  if (node < 0 || node >= actor->GetNumNodes()) {
-    error.Set(ErrorCode::InvalidArgument, prefix + std::string(nodeField) + " must be in [0, " +
-                                              std::to_string(actor->GetNumNodes()) + "), got " +
-                                              std::to_string(node));
-    return nullptr;
-  }
-  return actor;
-}
-
-namespace {
-// stiffness and damping finite and >= 0, saturation finite (<= 0 disables)
-template <class Params>
-bool CheckCompliance(Params const& p, std::string_view paramsName, Error& error) {
-  std::string const prefix = std::string(paramsName) + ".";
-  return internal::CheckNonNegative(p.stiffness, prefix + "stiffness", error) &&
-         internal::CheckNonNegative(p.damping, prefix + "damping", error) &&
-         internal::CheckFinite(p.saturation, prefix + "saturation", error);
-}
-
-bool CheckField(Real3 const& v, std::string_view paramsName, std::string_view field, Error& error) {
-  return internal::CheckFinite(v, std::string(paramsName) + "." + std::string(field), error);
-}
-
-bool CheckField(Quat const& q, std::string_view paramsName, std::string_view field, Error& error) {
-  return internal::CheckUnitQuat(q, std::string(paramsName) + "." + std::string(field), error);
-}
-
-// lower <= upper componentwise, neither NaN (±∞ allowed: no bound)
-bool CheckLimits(real lower, real upper, std::string const& field, Error& error) {
-  if (std::isnan(lower) || std::isnan(upper) || lower > upper || lower == HUGE_VAL ||
-      upper == -HUGE_VAL) {
-    error.Set(ErrorCode::InvalidArgument,
-              field + " must satisfy lower <= upper with no NaN (lower = " + internal::Format(lower) +
-                  ", upper = " + internal::Format(upper) + ")");
-    return false;
-  }
-  return true;
-}
-}  // namespace
-
-bool Scene::GetRigidBody(ActorHandle handle, int link, std::string_view paramsName,
-                         std::string_view actorField, std::string_view linkField, internal::RigidBodySlot& body,
-                         Error& error) const {
-  std::string const prefix = std::string(paramsName) + ".";
-  Actor* actor = actors_.Get(handle);
-  if (!actor) {
-    error.Set(ErrorCode::InvalidHandle, prefix + std::string(actorField) + ": actor handle " + HandleText(handle) +
-                                            " " + WhyNotFound(actors_, handle, id_));
-    return false;
-  }
-  std::string const linkText = prefix + std::string(linkField);
-  switch (actor->GetType()) {
-    case ActorType::Rigid:
-      if (link != -1) {
-        error.Set(ErrorCode::InvalidArgument, linkText + " must be -1 for the Rigid actor " + HandleText(handle) +
-                                                  " (a link index names a link of an Articulated actor), got " +
-                                                  std::to_string(link));
-        return false;
-      }
-      break;
-    case ActorType::Articulated: {
-      int const numLinks = static_cast<ArticulatedActor*>(actor)->GetNumLinks();
-      if (link < 0 || link >= numLinks) {
-        error.Set(ErrorCode::InvalidArgument, linkText + " must be a link of the Articulated actor " +
-                                                  HandleText(handle) + ", in [0, " + std::to_string(numLinks) +
-                                                  "), got " + std::to_string(link));
-        return false;
-      }
-      break;
-    }
-    default:
-      error.Set(ErrorCode::InvalidHandle, prefix + std::string(actorField) + ": actor " + HandleText(handle) +
-                                              " is a " + std::string(ToString(actor->GetType())) +
-                                              " actor, expected a Rigid actor or an Articulated actor's link");
-      return false;
-  }
-  body = {actor, link};
-  return true;
-}
-
-template <class Params>
-bool Scene::GetRigidPair(Params const& p, std::string_view paramsName, internal::RigidBodySlot& a,
-                         internal::RigidBodySlot& b, Error& error) const {
-  if (!GetRigidBody(p.actorA, p.linkA, paramsName, "actorA", "linkA", a, error) ||
-      !GetRigidBody(p.actorB, p.linkB, paramsName, "actorB", "linkB", b, error))
-    return false;
-  // two links of one articulated actor close a kinematic loop (their paths'
-  // common DoFs appear once in the constraint's DoF list); one body twice
-  // is refused
-  if (a.actor == b.actor && a.link < 0) {
-    error.Set(ErrorCode::InvalidArgument,
-              std::string(paramsName) + ".actorB must differ from actorA, both are " + HandleText(p.actorA));
-    return false;
-  }
-  if (a.actor == b.actor && a.link == b.link) {
-    error.Set(ErrorCode::InvalidArgument, std::string(paramsName) + ".linkB must differ from linkA on one " +
-                                              "articulated actor, both are " + std::to_string(p.linkA));
-    return false;
-  }
-  return true;
-}
 
 Constraint* Scene::AddConstraint(std::unique_ptr<Constraint> constraint) {
+  if (!constraint) return nullptr;  // refused by the type's Create (error set)
   Constraint* raw = constraint.get();
   raw->GetState().handle = constraints_.Insert(std::move(constraint));
   constraintOrder_.push_back(raw);
@@ -369,226 +230,30 @@ Constraint* Scene::AddConstraint(std::unique_ptr<Constraint> constraint) {
   return raw;
 }
 
-Constraint* Scene::CreateRigidSphericalJointConstraint(RigidSphericalJointConstraintParams const& p,
-                                                       Error& error) {
-  constexpr std::string_view kParams = "RigidSphericalJointConstraintParams";
-  internal::RigidBodySlot a, b;
-  if (!GetRigidPair(p, kParams, a, b, error) ||
-      !CheckField(p.localPosA, kParams, "localPosA", error) ||
-      !CheckField(p.localPosB, kParams, "localPosB", error) || !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<RigidSphericalJointConstraint>(a, b, p));
-}
 
-Constraint* Scene::CreateRigidPrismaticJointConstraint(RigidPrismaticJointConstraintParams const& p,
-                                                       Error& error) {
-  constexpr std::string_view kParams = "RigidPrismaticJointConstraintParams";
-  internal::RigidBodySlot a, b;
-  if (!GetRigidPair(p, kParams, a, b, error) ||
-      !CheckField(p.jointFrame, kParams, "jointFrame", error) ||
-      !CheckField(p.referenceOffset, kParams, "referenceOffset", error) ||
-      !CheckLimits(p.lowerLimit, p.upperLimit, std::string(kParams) + ".lowerLimit/upperLimit", error) ||
-      !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<RigidPrismaticJointConstraint>(a, b, p));
-}
 
-Constraint* Scene::CreateJointRotationRangeConstraint(JointRotationRangeConstraintParams const& p,
-                                                      Error& error) {
-  constexpr std::string_view kParams = "JointRotationRangeConstraintParams";
-  internal::RigidBodySlot a, b;
-  if (!GetRigidPair(p, kParams, a, b, error) ||
-      !CheckField(p.jointFrame, kParams, "jointFrame", error) ||
-      !CheckField(p.referenceRotation, kParams, "referenceRotation", error) ||
-      !CheckCompliance(p, kParams, error))
-    return nullptr;
-  for (int j = 0; j < 3; ++j)
-    if (!CheckLimits(p.lowerLimits[j], p.upperLimits[j],
-                     std::string(kParams) + ".lowerLimits/upperLimits[" + std::to_string(j) + "]",
-                     error))
-      return nullptr;
-  return AddConstraint(std::make_unique<JointRotationRangeConstraint>(a, b, p));
-}
 
-Constraint* Scene::CreateJointRotationTrackingConstraint(
-    JointRotationTrackingConstraintParams const& p, Error& error) {
-  constexpr std::string_view kParams = "JointRotationTrackingConstraintParams";
-  internal::RigidBodySlot a, b;
-  if (!GetRigidPair(p, kParams, a, b, error) ||
-      !CheckField(p.jointFrame, kParams, "jointFrame", error) || !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<JointRotationTrackingConstraint>(a, b, p));
-}
 
-Constraint* Scene::CreateRigidPivotPositionConstraint(RigidPivotPositionConstraintParams const& p,
-                                                      Error& error) {
-  constexpr std::string_view kParams = "RigidPivotPositionConstraintParams";
-  internal::RigidBodySlot a;
-  if (!GetRigidBody(p.actor, p.link, kParams, "actor", "link", a, error) || !CheckField(p.localPos, kParams, "localPos", error) ||
-      !CheckField(p.position, kParams, "position", error) || !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<RigidPivotPositionConstraint>(a, p));
-}
 
-Constraint* Scene::CreateRigidPivotToRigidTargetConstraint(
-    RigidPivotToRigidTargetConstraintParams const& p, Error& error) {
-  constexpr std::string_view kParams = "RigidPivotToRigidTargetConstraintParams";
-  internal::RigidBodySlot a;
-  if (!GetRigidBody(p.actor, p.link, kParams, "actor", "link", a, error) || !CheckField(p.localPos, kParams, "localPos", error) ||
-      !CheckField(p.position, kParams, "position", error) ||
-      !CheckField(p.rotation, kParams, "rotation", error) || !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<RigidPivotToRigidTargetConstraint>(a, p));
-}
 
-Constraint* Scene::CreateRigidPivotRotationConstraint(RigidPivotRotationConstraintParams const& p,
-                                                      Error& error) {
-  constexpr std::string_view kParams = "RigidPivotRotationConstraintParams";
-  internal::RigidBodySlot a;
-  if (!GetRigidBody(p.actor, p.link, kParams, "actor", "link", a, error) || !CheckField(p.localRotation, kParams, "localRotation", error) ||
-      !CheckField(p.rotation, kParams, "rotation", error) || !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<RigidPivotRotationConstraint>(a, p));
-}
 
-Constraint* Scene::CreateDeformableNodePositionConstraint(
-    DeformableNodePositionConstraintParams const& p, Error& error) {
-  constexpr std::string_view kParams = "DeformableNodePositionConstraintParams";
-  NodalActor* a = GetDeformableNode(p.actor, p.nodeIndex, kParams, "actor", "nodeIndex", error);
-  if (!a || !CheckField(p.position, kParams, "position", error) || !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<DeformableNodePositionConstraint>(a, p));
-}
 
-Constraint* Scene::CreateDeformableNodeToDeformableNodeConstraint(
-    DeformableNodeToDeformableNodeConstraintParams const& p, Error& error) {
-  constexpr std::string_view kParams = "DeformableNodeToDeformableNodeConstraintParams";
-  NodalActor* a = GetDeformableNode(p.actorA, p.nodeIndexA, kParams, "actorA", "nodeIndexA", error);
-  if (!a) return nullptr;
-  NodalActor* b = GetDeformableNode(p.actorB, p.nodeIndexB, kParams, "actorB", "nodeIndexB", error);
-  if (!b) return nullptr;
-  if (a == b) {
-    error.Set(ErrorCode::InvalidArgument, std::string(kParams) +
-                                              ".actorB must differ from actorA (a node-to-node spring "
-                                              "couples two deformable actors), both are " +
-                                              HandleText(p.actorA));
-    return nullptr;
+
+
+
+
+
+
+
+
+#define SUPERDEX_CONSTRAINT_FACTORY(Name, Class, file)                                               \
+  Constraint* Scene::Create##Name##Constraint(Name##ConstraintParams const& params, Error& error) { \
+    return AddConstraint(Class::Create(*this, params, error));                                      \
   }
-  if (!CheckCompliance(p, kParams, error)) return nullptr;
-  return AddConstraint(std::make_unique<DeformableNodeToDeformableNodeConstraint>(a, b, p));
-}
+SUPERDEX_CONSTRAINT_TYPES(SUPERDEX_CONSTRAINT_FACTORY)
+#undef SUPERDEX_CONSTRAINT_FACTORY
 
-Constraint* Scene::CreateDeformableNodeToRigidConstraint(DeformableNodeToRigidConstraintParams const& p,
-                                                         Error& error) {
-  constexpr std::string_view kParams = "DeformableNodeToRigidConstraintParams";
-  NodalActor* d = GetDeformableNode(p.deformableActor, p.deformableNodeIndex, kParams,
-                                         "deformableActor", "deformableNodeIndex", error);
-  if (!d) return nullptr;
-  internal::RigidBodySlot r;
-  if (!GetRigidBody(p.rigidActor, p.rigidLink, kParams, "rigidActor", "rigidLink", r, error) || !CheckField(p.localPos, kParams, "localPos", error) || !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<DeformableNodeToRigidConstraint>(d, r, p));
-}
-
-Constraint* Scene::CreateRodElementRotationToRigidConstraint(
-    RodElementRotationToRigidConstraintParams const& p, Error& error) {
-  constexpr std::string_view kParams = "RodElementRotationToRigidConstraintParams";
-  internal::RigidBodySlot r;
-  if (!GetRigidBody(p.rigidActor, p.rigidLink, kParams, "rigidActor", "rigidLink", r, error)) return nullptr;
-  RodActor* rod = GetActorAs<RodActor>(p.rodActor, std::string(kParams) + ".rodActor", error);
-  if (!rod) return nullptr;
-  if (p.elementIndex < 0 || p.elementIndex >= rod->GetNumElements()) {
-    error.Set(ErrorCode::InvalidArgument, std::string(kParams) + ".elementIndex must be in [0, " +
-                                              std::to_string(rod->GetNumElements()) + "), got " +
-                                              std::to_string(p.elementIndex));
-    return nullptr;
-  }
-  if (!CheckField(p.jointFrame, kParams, "jointFrame", error) || !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<RodElementRotationToRigidConstraint>(r, rod, p));
-}
-
-ArticulatedActor* Scene::GetArticulatedJoint(ActorHandle handle, int joint, int dof, bool rotation,
-                                             std::string_view paramsName, Error& error) const {
-  std::string const prefix = std::string(paramsName) + ".";
-  auto* actor = GetActorAs<ArticulatedActor>(handle, prefix + "actor", error);
-  if (!actor) return nullptr;
-  if (joint < 0 || joint >= actor->GetNumLinks()) {
-    error.Set(ErrorCode::InvalidArgument, prefix + "jointIndex must be in [0, " +
-                                              std::to_string(actor->GetNumLinks()) + "), got " + std::to_string(joint));
-    return nullptr;
-  }
-  JointType const type = actor->GetJointType(joint);
-  std::string const jointText = prefix + "jointIndex = " + std::to_string(joint) + " is a " +
-                                std::string(ToString(type)) + " joint";
-  if (rotation) {
-    if (type != JointType::Spherical && type != JointType::Free) {
-      error.Set(ErrorCode::InvalidArgument,
-                jointText + ": the 3D rotation types act on spherical joints and free joints' rotations");
-      return nullptr;
-    }
-    return actor;
-  }
-  if (type == JointType::Spherical || type == JointType::Fixed) {
-    error.Set(ErrorCode::InvalidArgument,
-              jointText + ": the single-DoF types act on revolute and prismatic joints and free joints' "
-                          "translations (for a spherical joint use Articulated3dRotationTarget/Range)");
-    return nullptr;
-  }
-  int const numDofs = type == JointType::Free ? 3 : 1;
-  if (dof < 0 || dof >= numDofs) {
-    error.Set(ErrorCode::InvalidArgument,
-              prefix + "dofIndex must be in [0, " + std::to_string(numDofs) + ") for a " +
-                  std::string(ToString(type)) + " joint, got " + std::to_string(dof) +
-                  (type == JointType::Free && dof >= 3 && dof < 6
-                       ? " (a free joint's rotation: use Articulated3dRotationTarget/Range)"
-                       : ""));
-    return nullptr;
-  }
-  return actor;
-}
-
-Constraint* Scene::CreateArticulatedSingleDofTargetConstraint(ArticulatedSingleDofTargetConstraintParams const& p,
-                                                              Error& error) {
-  constexpr std::string_view kParams = "ArticulatedSingleDofTargetConstraintParams";
-  ArticulatedActor* a = GetArticulatedJoint(p.actor, p.jointIndex, p.dofIndex, false, kParams, error);
-  if (!a || !internal::CheckFinite(p.target, std::string(kParams) + ".target", error) ||
-      !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<ArticulatedSingleDofConstraint>(a, p));
-}
-
-Constraint* Scene::CreateArticulatedSingleDofRangeConstraint(ArticulatedSingleDofRangeConstraintParams const& p,
-                                                             Error& error) {
-  constexpr std::string_view kParams = "ArticulatedSingleDofRangeConstraintParams";
-  ArticulatedActor* a = GetArticulatedJoint(p.actor, p.jointIndex, p.dofIndex, false, kParams, error);
-  if (!a || !CheckLimits(p.lowerLimit, p.upperLimit, std::string(kParams) + ".lowerLimit/upperLimit", error) ||
-      !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<ArticulatedSingleDofConstraint>(a, p));
-}
-
-Constraint* Scene::CreateArticulated3dRotationTargetConstraint(Articulated3dRotationTargetConstraintParams const& p,
-                                                               Error& error) {
-  constexpr std::string_view kParams = "Articulated3dRotationTargetConstraintParams";
-  ArticulatedActor* a = GetArticulatedJoint(p.actor, p.jointIndex, 0, true, kParams, error);
-  if (!a || !CheckField(p.rotation, kParams, "rotation", error) || !CheckCompliance(p, kParams, error))
-    return nullptr;
-  return AddConstraint(std::make_unique<Articulated3dRotationConstraint>(a, p));
-}
-
-Constraint* Scene::CreateArticulated3dRotationRangeConstraint(Articulated3dRotationRangeConstraintParams const& p,
-                                                              Error& error) {
-  constexpr std::string_view kParams = "Articulated3dRotationRangeConstraintParams";
-  ArticulatedActor* a = GetArticulatedJoint(p.actor, p.jointIndex, 0, true, kParams, error);
-  if (!a) return nullptr;
-  for (int j = 0; j < 3; ++j)
-    if (!CheckLimits(p.lowerLimits[j], p.upperLimits[j],
-                     std::string(kParams) + ".lowerLimits/upperLimits[" + std::to_string(j) + "]", error))
-      return nullptr;
-  if (!CheckCompliance(p, kParams, error)) return nullptr;
-  return AddConstraint(std::make_unique<Articulated3dRotationConstraint>(a, p));
-}
+std::string Scene::WhyNotFound(ActorHandle handle) const { return WhyMissing(actors_, handle, id_); }
 
 Constraint* Scene::GetConstraint(ConstraintHandle handle) const { return constraints_.Get(handle); }
 
@@ -611,7 +276,7 @@ bool Scene::DestroyConstraint(ConstraintHandle handle, Error& error) {
   Constraint* c = constraints_.Get(handle);
   if (!c) {
     error.Set(ErrorCode::InvalidHandle, "DestroyConstraint: constraint handle " + HandleText(handle) +
-                                             " " + WhyNotFound(constraints_, handle, id_));
+                                             " " + WhyMissing(constraints_, handle, id_));
     return false;
   }
   RemoveConstraint(c);

@@ -20,20 +20,10 @@
 #include <superdex/actors/deformable_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/actors/rod_actor.h>
-#include <superdex/constraints/articulated_joint_constraints.h>
 #include <superdex/constraints/constraint.h>
 #include <superdex/constraints/constraint_set.h>
-#include <superdex/constraints/deformable_node_position.h>
-#include <superdex/constraints/deformable_node_to_deformable_node.h>
-#include <superdex/constraints/deformable_node_to_rigid.h>
-#include <superdex/constraints/joint_rotation_range.h>
-#include <superdex/constraints/joint_rotation_tracking.h>
-#include <superdex/constraints/rigid_pivot_position.h>
-#include <superdex/constraints/rigid_pivot_rotation.h>
-#include <superdex/constraints/rigid_pivot_to_rigid_target.h>
-#include <superdex/constraints/rigid_prismatic_joint.h>
-#include <superdex/constraints/rigid_spherical_joint.h>
-#include <superdex/constraints/rod_element_rotation_to_rigid.h>
+#include <superdex/constraints/constraint_type_headers.h>  // generated from constraint_types.h
+#include <superdex/constraints/constraint_validation.h>
 #include <superdex/core/error.h>
 #include <superdex/core/slot_map.h>
 #include <superdex/scene/scene_params.h>
@@ -64,7 +54,7 @@ void CallVisitor(Fn& fn, T& object) {
 }
 }  // namespace internal
 
-class Scene {
+class Scene : private internal::ActorLookup {
  public:
   /// Validates `params` (finite gravity, positive Newton settings, a
   /// compiled-in linear solver, maxSubsteps a power of two); nullptr and
@@ -100,36 +90,13 @@ class Scene {
   // actor types; finite vectors; unit quaternions; stiffness and damping
   // finite and >= 0; finite saturation; ordered limits) and returns nullptr
   // with an Error naming the field on bad input.
-  Constraint* CreateRigidSphericalJointConstraint(RigidSphericalJointConstraintParams const& params,
-                                                  Error& error);
-  Constraint* CreateRigidPrismaticJointConstraint(RigidPrismaticJointConstraintParams const& params,
-                                                  Error& error);
-  Constraint* CreateJointRotationRangeConstraint(JointRotationRangeConstraintParams const& params,
-                                                 Error& error);
-  Constraint* CreateJointRotationTrackingConstraint(
-      JointRotationTrackingConstraintParams const& params, Error& error);
-  Constraint* CreateRigidPivotPositionConstraint(RigidPivotPositionConstraintParams const& params,
-                                                 Error& error);
-  Constraint* CreateRigidPivotToRigidTargetConstraint(
-      RigidPivotToRigidTargetConstraintParams const& params, Error& error);
-  Constraint* CreateRigidPivotRotationConstraint(RigidPivotRotationConstraintParams const& params,
-                                                 Error& error);
-  Constraint* CreateDeformableNodePositionConstraint(
-      DeformableNodePositionConstraintParams const& params, Error& error);
-  Constraint* CreateDeformableNodeToDeformableNodeConstraint(
-      DeformableNodeToDeformableNodeConstraintParams const& params, Error& error);
-  Constraint* CreateDeformableNodeToRigidConstraint(
-      DeformableNodeToRigidConstraintParams const& params, Error& error);
-  Constraint* CreateRodElementRotationToRigidConstraint(
-      RodElementRotationToRigidConstraintParams const& params, Error& error);
-  Constraint* CreateArticulatedSingleDofTargetConstraint(
-      ArticulatedSingleDofTargetConstraintParams const& params, Error& error);
-  Constraint* CreateArticulatedSingleDofRangeConstraint(
-      ArticulatedSingleDofRangeConstraintParams const& params, Error& error);
-  Constraint* CreateArticulated3dRotationTargetConstraint(
-      Articulated3dRotationTargetConstraintParams const& params, Error& error);
-  Constraint* CreateArticulated3dRotationRangeConstraint(
-      Articulated3dRotationRangeConstraintParams const& params, Error& error);
+  // One factory per type of constraints/constraint_types.h:
+  //   Constraint* Create<Name>Constraint(<Name>ConstraintParams const& params, Error& error);
+  // (CreateRigidSphericalJointConstraint, CreateDeformableNodePositionConstraint, ...).
+#define SUPERDEX_CONSTRAINT_FACTORY(Name, Class, file) \
+  Constraint* Create##Name##Constraint(Name##ConstraintParams const& params, Error& error);
+  SUPERDEX_CONSTRAINT_TYPES(SUPERDEX_CONSTRAINT_FACTORY)
+#undef SUPERDEX_CONSTRAINT_FACTORY
   /// The constraint, or nullptr for a null or stale handle.
   Constraint* GetConstraint(ConstraintHandle handle) const;
   /// Calls fn(Constraint&) or fn(Constraint*) on every live constraint, in
@@ -201,28 +168,9 @@ class Scene {
 
   ActorHandle AddActor(std::unique_ptr<Actor> actor);
   Constraint* AddConstraint(std::unique_ptr<Constraint> constraint);
-  /// A live actor of type T for `handle`, or nullptr with `error` naming `field`.
-  template <class T>
-  T* GetActorAs(ActorHandle handle, std::string_view field, Error& error) const;
-  /// A live deformable or rod actor and a node index in range, or nullptr.
-  NodalActor* GetDeformableNode(ActorHandle handle, int node, std::string_view paramsName,
-                                     std::string_view actorField, std::string_view nodeField,
-                                     Error& error) const;
-  /// A live articulated actor and a joint of it that takes `kind` (single
-  /// DoF: revolute, prismatic, a free joint's translation `dof`; rotation:
-  /// spherical or free), or nullptr with the error.
-  ArticulatedActor* GetArticulatedJoint(ActorHandle handle, int joint, int dof, bool rotation,
-                                        std::string_view paramsName, Error& error) const;
-  /// A rigid body for a constraint: a live rigid actor with `link` −1, or a
-  /// live articulated actor and a link of it; false with the error naming
-  /// `actorField` or `linkField` of `paramsName` otherwise.
-  bool GetRigidBody(ActorHandle handle, int link, std::string_view paramsName, std::string_view actorField,
-                    std::string_view linkField, internal::RigidBodySlot& body, Error& error) const;
-  /// Two rigid bodies (GetRigidBody) for actorA/linkA and actorB/linkB of
-  /// `params`, on different actors.
-  template <class Params>
-  bool GetRigidPair(Params const& p, std::string_view paramsName, internal::RigidBodySlot& a,
-                    internal::RigidBodySlot& b, Error& error) const;
+  // internal::ActorLookup: the constraint types' Create look the actors up here
+  Actor* FindActor(ActorHandle handle) const override { return actors_.Get(handle); }
+  std::string WhyNotFound(ActorHandle handle) const override;
   void OnTopologyChanged();
   /// One attempt at a step of dt as `substeps` equal sub-steps from the
   /// current (pre-step) state; on failure `failedSubstep` is the 1-based

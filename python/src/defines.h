@@ -35,6 +35,9 @@ void DefineArticulatedActor(py::module_& m);
 void DefineVtkWriter(py::module_& m);
 // constraints/
 void DefineConstraint(py::module_& m);
+/// Every type of constraints/constraint_types.h: params, class, downcast
+/// (types.cpp); the per-type files below add their own accessors.
+void DefineConstraintTypes(py::module_& m);
 void DefineRigidSphericalJoint(py::module_& m);
 void DefineRigidPrismaticJoint(py::module_& m);
 void DefineJointRotationRange(py::module_& m);
@@ -43,7 +46,6 @@ void DefineRigidPivotPosition(py::module_& m);
 void DefineRigidPivotToRigidTarget(py::module_& m);
 void DefineRigidPivotRotation(py::module_& m);
 void DefineDeformableNodePosition(py::module_& m);
-void DefineDeformableNodeToDeformableNode(py::module_& m);
 void DefineDeformableNodeToRigid(py::module_& m);
 void DefineRodElementRotationToRigid(py::module_& m);
 void DefineArticulatedJointConstraints(py::module_& m);

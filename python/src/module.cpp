@@ -32,6 +32,7 @@ PYBIND11_MODULE(mochi, m) {
   DefineArticulatedActor(m);
   DefineVtkWriter(m);
   DefineConstraint(m);
+  DefineConstraintTypes(m);
   DefineRigidSphericalJoint(m);
   DefineRigidPrismaticJoint(m);
   DefineJointRotationRange(m);
@@ -40,7 +41,6 @@ PYBIND11_MODULE(mochi, m) {
   DefineRigidPivotToRigidTarget(m);
   DefineRigidPivotRotation(m);
   DefineDeformableNodePosition(m);
-  DefineDeformableNodeToDeformableNode(m);
   DefineDeformableNodeToRigid(m);
   DefineRodElementRotationToRigid(m);
   DefineArticulatedJointConstraints(m);

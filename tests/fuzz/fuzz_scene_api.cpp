@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <string_view>
+#include <variant>
 #include <vector>
 
 #include "fuzz_support.h"
@@ -17,6 +19,10 @@ using namespace superdex;
 using namespace superdex::fuzz;
 
 namespace {
+
+#define SUPERDEX_FUZZ_COUNT(Name, Class, file) +1
+constexpr int kNumConstraintTypes = 0 SUPERDEX_CONSTRAINT_TYPES(SUPERDEX_FUZZ_COUNT);
+#undef SUPERDEX_FUZZ_COUNT
 
 bool Trace() {
   static bool const trace = std::getenv("FUZZ_TRACE") != nullptr;
@@ -317,100 +323,45 @@ class Driver {
     return ok;
   }
 
+  // every type of constraints/constraint_types.h, its params from its
+  // Fields(): handles drawn from everything issued, the other fields mostly
+  // at their defaults, often hostile; a working stiffness most of the time
+  template <class Params>
+  Params FuzzParams(int s) {
+    Params p;
+    for (auto const& field : Params::Fields())
+      std::visit([&](auto member) { Fill(s, field.name, p.*member); }, field.member);
+    return p;
+  }
+  void Fill(int s, std::string_view, ActorHandle& value) { value = PickActor(s); }
+  void Fill(int, std::string_view, int& value) {
+    if (in_.Int(3)) value = in_.Int(12) - 2;
+  }
+  void Fill(int, std::string_view name, real& value) {
+    if (name == "stiffness") value = in_.Int(3) ? 1e4 : in_.Real();
+    else if (!in_.Int(3)) value = in_.Real();
+  }
+  void Fill(int, std::string_view, bool& value) { value = in_.Int(2); }
+  void Fill(int, std::string_view, Real3& value) {
+    if (!in_.Int(3)) value = in_.Vector();
+  }
+  void Fill(int, std::string_view, Quat& value) {
+    if (!in_.Int(3)) value = in_.Rotation();
+  }
+  template <class Params>
+  Constraint* Create(int s, Scene& scene, Constraint* (Scene::*create)(Params const&, Error&), char const* name,
+                     Error& error) {
+    lastCall_ = name;
+    return (scene.*create)(FuzzParams<Params>(s), error);
+  }
+
   bool CreateConstraint(int s, Scene& scene, Error& error) {
-    real const k = in_.Int(3) ? 1e4 : in_.Real();
-    real const d = in_.Int(3) ? 0 : in_.Real();
-    auto fill = [&](auto& p) {
-      p.stiffness = k;
-      p.damping = d;
-      if (!in_.Int(4)) p.saturation = in_.Real();
-    };
     Constraint* c = nullptr;
-    switch (in_.Int(8)) {
-      case 0: {
-        lastCall_ = "CreateRigidSphericalJointConstraint";
-        RigidSphericalJointConstraintParams p;
-        p.actorA = PickActor(s);
-        p.actorB = PickActor(s);
-        p.localPosA = Real3(0.1, 0, 0);
-        if (!in_.Int(4)) p.localPosB = in_.Vector();
-        fill(p);
-        c = scene.CreateRigidSphericalJointConstraint(p, error);
-        break;
-      }
-      case 1: {
-        lastCall_ = "CreateRigidPivotPositionConstraint";
-        RigidPivotPositionConstraintParams p;
-        p.actor = PickActor(s);
-        if (!in_.Int(4)) p.position = in_.Vector();
-        fill(p);
-        c = scene.CreateRigidPivotPositionConstraint(p, error);
-        break;
-      }
-      case 2: {
-        lastCall_ = "CreateRigidPivotRotationConstraint";
-        RigidPivotRotationConstraintParams p;
-        p.actor = PickActor(s);
-        p.rotation = in_.Rotation();
-        fill(p);
-        c = scene.CreateRigidPivotRotationConstraint(p, error);
-        break;
-      }
-      case 3: {
-        lastCall_ = "CreateDeformableNodePositionConstraint";
-        DeformableNodePositionConstraintParams p;
-        p.actor = PickActor(s);
-        p.nodeIndex = in_.Int(12) - 2;
-        if (!in_.Int(4)) p.position = in_.Vector();
-        fill(p);
-        c = scene.CreateDeformableNodePositionConstraint(p, error);
-        break;
-      }
-      case 4: {
-        lastCall_ = "CreateDeformableNodeToRigidConstraint";
-        DeformableNodeToRigidConstraintParams p;
-        p.deformableActor = PickActor(s);
-        p.rigidActor = PickActor(s);
-        p.deformableNodeIndex = in_.Int(10) - 1;
-        p.fixToDeformablePos = in_.Int(2);
-        fill(p);
-        c = scene.CreateDeformableNodeToRigidConstraint(p, error);
-        break;
-      }
-      case 5: {
-        lastCall_ = "CreateDeformableNodeToDeformableNodeConstraint";
-        DeformableNodeToDeformableNodeConstraintParams p;
-        p.actorA = PickActor(s);
-        p.actorB = PickActor(s);
-        p.nodeIndexA = in_.Int(10) - 1;
-        p.nodeIndexB = in_.Int(10) - 1;
-        fill(p);
-        c = scene.CreateDeformableNodeToDeformableNodeConstraint(p, error);
-        break;
-      }
-      case 6: {
-        lastCall_ = "CreateArticulatedSingleDofTargetConstraint";
-        ArticulatedSingleDofTargetConstraintParams p;
-        p.actor = PickActor(s);
-        p.jointIndex = in_.Int(4) - 1;
-        p.dofIndex = in_.Int(4) - 1;
-        p.target = in_.Real();
-        fill(p);
-        c = scene.CreateArticulatedSingleDofTargetConstraint(p, error);
-        break;
-      }
-      case 7: {
-        lastCall_ = "CreateJointRotationRangeConstraint";
-        JointRotationRangeConstraintParams p;
-        p.actorA = PickActor(s);
-        p.actorB = PickActor(s);
-        p.lowerLimits = in_.Vector();
-        p.upperLimits = in_.Vector();
-        fill(p);
-        c = scene.CreateJointRotationRangeConstraint(p, error);
-        break;
-      }
-    }
+    int type = in_.Int(kNumConstraintTypes);
+#define SUPERDEX_FUZZ_TYPE(Name, Class, file)                                                              \
+    if (type-- == 0) c = Create(s, scene, &Scene::Create##Name##Constraint, "Create" #Name "Constraint", error);
+    SUPERDEX_CONSTRAINT_TYPES(SUPERDEX_FUZZ_TYPE)
+#undef SUPERDEX_FUZZ_TYPE
     if (!c) return false;
     issued_[s].constraints.push_back(c->GetHandle());
     issued_[s].pointers.push_back(c);

@@ -7,40 +7,11 @@
 //
 // and return the most derived Python class (RigidActor, RigidPivotPositionConstraint, ...).
 #include "defines.h"
-#include "support/params_class.h"
+#include "support/factory.h"
 
 namespace superdex::python {
 
 namespace {
-
-using SceneClass = py::class_<SceneOwner, SceneRef>;
-
-py::object Wrap(SceneRef const& scene, Actor& actor) {
-  return WrapActor(scene, actor);
-}
-py::object Wrap(SceneRef const& scene, Constraint& constraint) {
-  return WrapConstraint(scene, constraint);
-}
-
-/// Binds `name`(params=None, **kwargs) -> wrapped object for a Scene::Create… factory.
-template <class Params, class Result>
-void DefineFactory(SceneClass& cls, char const* name,
-                   Result* (Scene::*create)(Params const&, Error&), char const* what) {
-  std::string const doc =
-      std::string("Creates ") + what + " from `params` (a " + ParamsFields<Params>::TypeName() +
-      ", default-constructed when None) with the keyword arguments applied on top. Raises "
-      "mochi.Error naming the bad field; a failed call creates nothing.";
-  cls.def(
-      name,
-      [create](SceneRef const& self, py::object const& params, py::kwargs const& kwargs) {
-        Params const p = ParamsArgument<Params>(params, kwargs);
-        Result* result = Checked([&](Error& e) { return (self->Get().*create)(p, e); });
-        if (!result)
-          Raise(ErrorCode::InvalidState, "the factory returned nothing without an error");
-        return Wrap(self, *result);
-      },
-      py::arg("params") = py::none(), doc.c_str());
-}
 
 /// Handles of every constraint (or actor) now in the scene, in creation order.
 DynamicArray<ConstraintHandle> ConstraintHandles(Scene const& scene) {
@@ -144,44 +115,7 @@ void DefineScene(py::module_& m) {
       .def("get_num_actors", [](SceneOwner const& self) { return self.Get().GetNumActors(); });
 
   // ---- constraints ----
-  DefineFactory(cls, "create_rigid_spherical_joint_constraint",
-                &Scene::CreateRigidSphericalJointConstraint, "a RigidSphericalJointConstraint");
-  DefineFactory(cls, "create_rigid_prismatic_joint_constraint",
-                &Scene::CreateRigidPrismaticJointConstraint, "a RigidPrismaticJointConstraint");
-  DefineFactory(cls, "create_joint_rotation_range_constraint",
-                &Scene::CreateJointRotationRangeConstraint, "a JointRotationRangeConstraint");
-  DefineFactory(cls, "create_joint_rotation_tracking_constraint",
-                &Scene::CreateJointRotationTrackingConstraint, "a JointRotationTrackingConstraint");
-  DefineFactory(cls, "create_rigid_pivot_position_constraint",
-                &Scene::CreateRigidPivotPositionConstraint, "a RigidPivotPositionConstraint");
-  DefineFactory(cls, "create_rigid_pivot_to_rigid_target_constraint",
-                &Scene::CreateRigidPivotToRigidTargetConstraint,
-                "a RigidPivotToRigidTargetConstraint");
-  DefineFactory(cls, "create_rigid_pivot_rotation_constraint",
-                &Scene::CreateRigidPivotRotationConstraint, "a RigidPivotRotationConstraint");
-  DefineFactory(cls, "create_deformable_node_position_constraint",
-                &Scene::CreateDeformableNodePositionConstraint,
-                "a DeformableNodePositionConstraint");
-  DefineFactory(cls, "create_deformable_node_to_deformable_node_constraint",
-                &Scene::CreateDeformableNodeToDeformableNodeConstraint,
-                "a DeformableNodeToDeformableNodeConstraint");
-  DefineFactory(cls, "create_deformable_node_to_rigid_constraint",
-                &Scene::CreateDeformableNodeToRigidConstraint, "a DeformableNodeToRigidConstraint");
-  DefineFactory(cls, "create_rod_element_rotation_to_rigid_constraint",
-                &Scene::CreateRodElementRotationToRigidConstraint,
-                "a RodElementRotationToRigidConstraint");
-  DefineFactory(cls, "create_articulated_single_dof_target_constraint",
-                &Scene::CreateArticulatedSingleDofTargetConstraint,
-                "an ArticulatedSingleDofConstraint of type ArticulatedSingleDofTarget");
-  DefineFactory(cls, "create_articulated_single_dof_range_constraint",
-                &Scene::CreateArticulatedSingleDofRangeConstraint,
-                "an ArticulatedSingleDofConstraint of type ArticulatedSingleDofRange");
-  DefineFactory(cls, "create_articulated_3d_rotation_target_constraint",
-                &Scene::CreateArticulated3dRotationTargetConstraint,
-                "an Articulated3dRotationConstraint of type Articulated3dRotationTarget");
-  DefineFactory(cls, "create_articulated_3d_rotation_range_constraint",
-                &Scene::CreateArticulated3dRotationRangeConstraint,
-                "an Articulated3dRotationConstraint of type Articulated3dRotationRange");
+  DefineConstraintFactories(cls);
   cls.def(
          "get_constraint",
          [](SceneRef const& self, ConstraintHandle handle) -> py::object {

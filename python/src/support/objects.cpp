@@ -8,11 +8,6 @@ std::string HandleText(std::uint32_t index, std::uint32_t generation) {
   return "{index " + std::to_string(index) + ", generation " + std::to_string(generation) + "}";
 }
 
-template <class Ref>
-py::object Cast(SceneRef const& scene, typename Ref::Type& object) {
-  return py::cast(Ref(scene, object));
-}
-
 }  // namespace
 
 Scene& SceneOwner::Get() const {
@@ -76,52 +71,6 @@ py::object WrapActor(SceneRef const& scene, Actor& actor) {
   return py::cast(ActorRef(scene, actor));
 }
 
-py::object WrapConstraint(SceneRef const& scene, Constraint& c) {
-  switch (c.GetType()) {
-    case ConstraintType::RigidSphericalJoint:
-      return Cast<ConstraintRefOf<RigidSphericalJointConstraint>>(
-          scene, static_cast<RigidSphericalJointConstraint&>(c));
-    case ConstraintType::RigidPrismaticJoint:
-      return Cast<ConstraintRefOf<RigidPrismaticJointConstraint>>(
-          scene, static_cast<RigidPrismaticJointConstraint&>(c));
-    case ConstraintType::JointRotationRange:
-      return Cast<ConstraintRefOf<JointRotationRangeConstraint>>(
-          scene, static_cast<JointRotationRangeConstraint&>(c));
-    case ConstraintType::JointRotationTracking:
-      return Cast<ConstraintRefOf<JointRotationTrackingConstraint>>(
-          scene, static_cast<JointRotationTrackingConstraint&>(c));
-    case ConstraintType::RigidPivotPosition:
-      return Cast<ConstraintRefOf<RigidPivotPositionConstraint>>(
-          scene, static_cast<RigidPivotPositionConstraint&>(c));
-    case ConstraintType::RigidPivotToRigidTarget:
-      return Cast<ConstraintRefOf<RigidPivotToRigidTargetConstraint>>(
-          scene, static_cast<RigidPivotToRigidTargetConstraint&>(c));
-    case ConstraintType::RigidPivotRotation:
-      return Cast<ConstraintRefOf<RigidPivotRotationConstraint>>(
-          scene, static_cast<RigidPivotRotationConstraint&>(c));
-    case ConstraintType::DeformableNodePosition:
-      return Cast<ConstraintRefOf<DeformableNodePositionConstraint>>(
-          scene, static_cast<DeformableNodePositionConstraint&>(c));
-    case ConstraintType::DeformableNodeToDeformableNode:
-      return Cast<ConstraintRefOf<DeformableNodeToDeformableNodeConstraint>>(
-          scene, static_cast<DeformableNodeToDeformableNodeConstraint&>(c));
-    case ConstraintType::DeformableNodeToRigid:
-      return Cast<ConstraintRefOf<DeformableNodeToRigidConstraint>>(
-          scene, static_cast<DeformableNodeToRigidConstraint&>(c));
-    case ConstraintType::ArticulatedSingleDofTarget:
-    case ConstraintType::ArticulatedSingleDofRange:
-      return Cast<ConstraintRefOf<ArticulatedSingleDofConstraint>>(
-          scene, static_cast<ArticulatedSingleDofConstraint&>(c));
-    case ConstraintType::Articulated3dRotationTarget:
-    case ConstraintType::Articulated3dRotationRange:
-      return Cast<ConstraintRefOf<Articulated3dRotationConstraint>>(
-          scene, static_cast<Articulated3dRotationConstraint&>(c));
-    case ConstraintType::RodElementRotationToRigid:
-      return Cast<ConstraintRefOf<RodElementRotationToRigidConstraint>>(
-          scene, static_cast<RodElementRotationToRigidConstraint&>(c));
-  }
-  return py::cast(ConstraintRef(scene, c));
-}
 
 ActorHandle LoadActorHandle(py::handle value, std::string const& field) {
   if (py::isinstance<ActorRef>(value)) return value.cast<ActorRef const&>().GetHandle();

@@ -98,6 +98,18 @@ class ConstraintRefOf : public ConstraintRef {
   T& Get() const { return static_cast<T&>(ConstraintRef::Get()); }
 };
 
+/// The Python object of `object` as its class Ref (RigidActorRef, ConstraintRefOf<T>, ...).
+template <class Ref>
+py::object Cast(SceneRef const& scene, typename Ref::Type& object) {
+  return py::cast(Ref(scene, object));
+}
+
+/// The class of constraint class T already bound (mochi.<T>), to add accessors to.
+template <class T>
+py::class_<ConstraintRefOf<T>, ConstraintRef> ConstraintClass() {
+  return py::reinterpret_borrow<py::class_<ConstraintRefOf<T>, ConstraintRef>>(py::type::of<ConstraintRefOf<T>>());
+}
+
 /// The Python object of the most derived class for `actor` (mochi.RigidActor, ...).
 py::object WrapActor(SceneRef const& scene, Actor& actor);
 /// The Python object of the most derived class for `constraint`.
