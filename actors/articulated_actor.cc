@@ -75,6 +75,90 @@ int JointDofs(JointType type) {
   return 0;
 }
 
+bool ArticulatedActor::LinkFromParams(int i, ArticulatedLinkParams const& p, Link& l, Error& error) {
+  using namespace internal;
+  if (i == 0 ? p.parent != -1 : (p.parent < 0 || p.parent >= i)) {
+    error.Set(ErrorCode::InvalidArgument,
+              LinkField(i, "parent") + (i == 0 ? " must be -1 (the root joint attaches to the world), got "
+                                               : " must name an earlier link, in [0, " + std::to_string(i) +
+                                                     "), got ") +
+                  std::to_string(p.parent));
+    return false;
+  }
+  int const type = static_cast<int>(p.joint);
+  if (type < static_cast<int>(JointType::Fixed) || type > static_cast<int>(JointType::Free)) {
+    error.Set(ErrorCode::InvalidArgument, LinkField(i, "joint") + " is not a JointType (" + std::to_string(type) + ")");
+    return false;
+  }
+  if (!CheckFinite(p.axis, LinkField(i, "axis"), error) ||
+      !CheckFinite(p.parentToJointPosition, LinkField(i, "parentToJointPosition"), error) ||
+      !CheckUnitQuat(p.parentToJointRotation, LinkField(i, "parentToJointRotation"), error) ||
+      !CheckFinite(p.jointToChildPosition, LinkField(i, "jointToChildPosition"), error) ||
+      !CheckUnitQuat(p.jointToChildRotation, LinkField(i, "jointToChildRotation"), error) ||
+      !CheckPositive(p.mass, LinkField(i, "mass"), error) ||
+      !CheckPositive(p.inertia, LinkField(i, "inertia"), error) ||
+      !CheckFinite(p.centerOfMass, LinkField(i, "centerOfMass"), error) ||
+      !CheckNonNegative(p.armature, LinkField(i, "armature"), error) ||
+      !CheckNonNegative(p.damping, LinkField(i, "damping"), error))
+    return false;
+  if ((p.joint == JointType::Revolute || p.joint == JointType::Prismatic) && !(p.axis.norm() > 1e-12)) {
+    error.Set(ErrorCode::InvalidArgument, LinkField(i, "axis") + " must be non-zero for a " +
+                                              std::string(ToString(p.joint)) + " joint, got " + Format(p.axis));
+    return false;
+  }
+  if (p.joint == JointType::Free && i != 0) {
+    error.Set(ErrorCode::InvalidArgument,
+              LinkField(i, "joint") + " is Free: only the root joint may be free (a floating base)");
+    return false;
+  }
+  int const dofs = JointDofs(p.joint);
+  for (auto const* state : {&p.initialPosition, &p.initialVelocity}) {
+    if (!state->empty() && static_cast<int>(state->size()) != dofs) {
+      error.Set(ErrorCode::InvalidArgument,
+                LinkField(i, state == &p.initialPosition ? "initialPosition" : "initialVelocity") +
+                    " must be empty or hold " + std::to_string(dofs) + " entries (a " +
+                    std::string(ToString(p.joint)) + " joint), got " + std::to_string(state->size()));
+      return false;
+    }
+    for (real v : *state)
+      if (!std::isfinite(v)) {
+        error.Set(ErrorCode::InvalidArgument,
+                  LinkField(i, state == &p.initialPosition ? "initialPosition" : "initialVelocity") +
+                      " is not finite");
+        return false;
+      }
+  }
+  // a rotation vector whose norm overflows has no angle (Exp gives NaN)
+  int const rotationStart = p.joint == JointType::Spherical ? 0 : p.joint == JointType::Free ? 3 : -1;
+  if (rotationStart >= 0 && !p.initialPosition.empty()) {
+    Real3 const phi(p.initialPosition[rotationStart], p.initialPosition[rotationStart + 1],
+                    p.initialPosition[rotationStart + 2]);
+    if (!std::isfinite(phi.norm())) {
+      error.Set(ErrorCode::InvalidArgument,
+                LinkField(i, "initialPosition") + "[" + std::to_string(rotationStart) + ".." +
+                    std::to_string(rotationStart + 2) + "] = " + Format(phi) +
+                    " is a rotation vector whose angle (its norm) overflows; give the angle in radians");
+      return false;
+    }
+  }
+  l.parent = p.parent;
+  l.joint = p.joint;
+  // scaled first, so that an axis like 1e200 does not overflow its norm
+  real const axisScale = p.axis.cwiseAbs().maxCoeff();
+  l.axis = axisScale > 0 ? Real3((p.axis / axisScale).normalized()) : Real3::UnitZ();
+  l.parentToJointPosition = p.parentToJointPosition;
+  l.parentToJointRotation = p.parentToJointRotation.normalized();
+  l.jointToChildPosition = p.jointToChildPosition;
+  l.jointToChildRotation = p.jointToChildRotation.normalized();
+  l.mass = p.mass;
+  l.inertia = p.inertia;
+  l.centerOfMass = p.centerOfMass;
+  l.armature = p.armature;
+  l.damping = p.damping;
+  l.numDofs = dofs;
+  return true;
+}
+
 std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParams const& params, Error& error) {
   using namespace internal;
   int const numLinks = static_cast<int>(params.links.size());
@@ -85,89 +169,9 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
   DynamicArray<Link> links(numLinks);
   int numDofs = 0;
   for (int i = 0; i < numLinks; ++i) {
-    ArticulatedLinkParams const& p = params.links[i];
-    Link& l = links[i];
-    if (i == 0 ? p.parent != -1 : (p.parent < 0 || p.parent >= i)) {
-      error.Set(ErrorCode::InvalidArgument,
-                LinkField(i, "parent") + (i == 0 ? " must be -1 (the root joint attaches to the world), got "
-                                                 : " must name an earlier link, in [0, " + std::to_string(i) +
-                                                       "), got ") +
-                    std::to_string(p.parent));
-      return nullptr;
-    }
-    int const type = static_cast<int>(p.joint);
-    if (type < static_cast<int>(JointType::Fixed) || type > static_cast<int>(JointType::Free)) {
-      error.Set(ErrorCode::InvalidArgument, LinkField(i, "joint") + " is not a JointType (" + std::to_string(type) + ")");
-      return nullptr;
-    }
-    if (!CheckFinite(p.axis, LinkField(i, "axis"), error) ||
-        !CheckFinite(p.parentToJointPosition, LinkField(i, "parentToJointPosition"), error) ||
-        !CheckUnitQuat(p.parentToJointRotation, LinkField(i, "parentToJointRotation"), error) ||
-        !CheckFinite(p.jointToChildPosition, LinkField(i, "jointToChildPosition"), error) ||
-        !CheckUnitQuat(p.jointToChildRotation, LinkField(i, "jointToChildRotation"), error) ||
-        !CheckPositive(p.mass, LinkField(i, "mass"), error) ||
-        !CheckPositive(p.inertia, LinkField(i, "inertia"), error) ||
-        !CheckFinite(p.centerOfMass, LinkField(i, "centerOfMass"), error) ||
-        !CheckNonNegative(p.armature, LinkField(i, "armature"), error) ||
-        !CheckNonNegative(p.damping, LinkField(i, "damping"), error))
-      return nullptr;
-    if ((p.joint == JointType::Revolute || p.joint == JointType::Prismatic) && !(p.axis.norm() > 1e-12)) {
-      error.Set(ErrorCode::InvalidArgument, LinkField(i, "axis") + " must be non-zero for a " +
-                                                std::string(ToString(p.joint)) + " joint, got " + Format(p.axis));
-      return nullptr;
-    }
-    if (p.joint == JointType::Free && i != 0) {
-      error.Set(ErrorCode::InvalidArgument,
-                LinkField(i, "joint") + " is Free: only the root joint may be free (a floating base)");
-      return nullptr;
-    }
-    int const dofs = JointDofs(p.joint);
-    for (auto const* state : {&p.initialPosition, &p.initialVelocity}) {
-      if (!state->empty() && static_cast<int>(state->size()) != dofs) {
-        error.Set(ErrorCode::InvalidArgument,
-                  LinkField(i, state == &p.initialPosition ? "initialPosition" : "initialVelocity") +
-                      " must be empty or hold " + std::to_string(dofs) + " entries (a " +
-                      std::string(ToString(p.joint)) + " joint), got " + std::to_string(state->size()));
-        return nullptr;
-      }
-      for (real v : *state)
-        if (!std::isfinite(v)) {
-          error.Set(ErrorCode::InvalidArgument,
-                    LinkField(i, state == &p.initialPosition ? "initialPosition" : "initialVelocity") +
-                        " is not finite");
-          return nullptr;
-        }
-    }
-    // a rotation vector whose norm overflows has no angle (Exp gives NaN)
-    int const rotationStart = p.joint == JointType::Spherical ? 0 : p.joint == JointType::Free ? 3 : -1;
-    if (rotationStart >= 0 && !p.initialPosition.empty()) {
-      Real3 const phi(p.initialPosition[rotationStart], p.initialPosition[rotationStart + 1],
-                      p.initialPosition[rotationStart + 2]);
-      if (!std::isfinite(phi.norm())) {
-        error.Set(ErrorCode::InvalidArgument,
-                  LinkField(i, "initialPosition") + "[" + std::to_string(rotationStart) + ".." +
-                      std::to_string(rotationStart + 2) + "] = " + Format(phi) +
-                      " is a rotation vector whose angle (its norm) overflows; give the angle in radians");
-        return nullptr;
-      }
-    }
-    l.parent = p.parent;
-    l.joint = p.joint;
-    // scaled first, so that an axis like 1e200 does not overflow its norm
-    real const axisScale = p.axis.cwiseAbs().maxCoeff();
-    l.axis = axisScale > 0 ? Real3((p.axis / axisScale).normalized()) : Real3::UnitZ();
-    l.parentToJointPosition = p.parentToJointPosition;
-    l.parentToJointRotation = p.parentToJointRotation.normalized();
-    l.jointToChildPosition = p.jointToChildPosition;
-    l.jointToChildRotation = p.jointToChildRotation.normalized();
-    l.mass = p.mass;
-    l.inertia = p.inertia;
-    l.centerOfMass = p.centerOfMass;
-    l.armature = p.armature;
-    l.damping = p.damping;
-    l.dofStart = numDofs;
-    l.numDofs = dofs;
-    numDofs += dofs;
+    if (!LinkFromParams(i, params.links[i], links[i], error)) return nullptr;
+    links[i].dofStart = numDofs;
+    numDofs += links[i].numDofs;
   }
   if (numDofs == 0) {
     error.Set(ErrorCode::InvalidArgument,

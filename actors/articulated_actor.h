@@ -265,6 +265,9 @@ class ArticulatedActor final : public Actor, private internal::OwnBlockSolve {
   void SaveSnapshot(std::unique_ptr<internal::ActorSnapshot>& snapshot) const override;
   void RestoreSnapshot(internal::ActorSnapshot const& snapshot) override;
 
+  /// Link i's definition from its params, checked (Create); false and the
+  /// error naming the field otherwise. Leaves l.dofStart to the caller.
+  static bool LinkFromParams(int i, ArticulatedLinkParams const& p, Link& l, Error& error);
   void ComputeKinematics(DynamicArray<JointState> const& joints, Kinematics& k, bool withMotion = true) const;
   /// k.motion from k's poses
   void ComputeMotion(Kinematics& k) const;

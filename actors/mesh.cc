@@ -445,13 +445,8 @@ int GmshNodesPerElement(int type) {
 
 /// Reads a Gmsh MSH 2 ASCII file, keeping elements of `wantedType` (with N
 /// nodes); unused nodes are dropped.
-template <size_t N>
-bool ReadGmsh(std::string const& path, int wantedType, char const* typeName,
-              DynamicArray<Real3>& nodesOut, DynamicArray<std::array<int, N>>& elementsOut,
-              Error& error) {
-  LineReader r;
-  if (!r.Open(path, '\0', error)) return false;
-
+/// The $MeshFormat section: MSH 2.x, ASCII.
+bool ReadGmshFormat(LineReader& r, Error& error) {
   // $MeshFormat / version file-type data-size / $EndMeshFormat
   if (!r.Next() || r[0] != "$MeshFormat")
     return r.Fail("missing header: the file must start with $MeshFormat (Gmsh MSH 2.2 ASCII)",
@@ -476,6 +471,73 @@ bool ReadGmsh(std::string const& path, int wantedType, char const* typeName,
   if (!r.Next()) return r.Fail("unexpected end of file: $MeshFormat has no $EndMeshFormat", error);
   if (r[0] != "$EndMeshFormat")
     return r.Fail("expected $EndMeshFormat, got " + Quoted(r.Text()), error);
+
+  return true;
+}
+
+/// One line of $Elements: its type, tags and nodes checked (every node
+/// defined in $Nodes, on line `nodesLine`); an element of `wantedType` is
+/// appended to `elements` (indices into the nodes).
+template <size_t N>
+bool ReadGmshElement(LineReader& r, int wantedType, std::unordered_map<int, int> const& nodeOfId, int nodesLine,
+                     DynamicArray<std::array<int, N>>& elements, Error& error) {
+  if (r.Size() < 3)
+    return r.Fail(
+        "element line " + Quoted(r.Text()) + " " +
+            CountMismatch(r.Size(),
+                          "at least 3 ('<id> <type> <#tags> <tags...> <nodes...>')"),
+        error);
+  int id = 0, type = 0, numTags = 0;
+  if (!ReadInt(r, 0, "element id", id, error) ||
+      !ReadInt(r, 1, "element type", type, error) ||
+      !ReadInt(r, 2, "number of tags", numTags, error))
+    return false;
+  std::string const what =
+      "element " + std::to_string(id) + " (type " + std::to_string(type) + ")";
+  if (numTags < 0)
+    return r.Fail(what + ": number of tags must be >= 0, got " + std::to_string(numTags),
+                  error);
+  for (size_t i = 3; i < r.Size(); ++i) {
+    int value;
+    if (!ReadInt(r, i, what + (i < 3 + size_t(numTags) ? " tag" : " node"), value, error))
+      return false;
+  }
+  int const numNodes = static_cast<int>(r.Size()) - 3 - numTags;
+  int const expected = GmshNodesPerElement(type);
+  if (numNodes < 1 || (expected > 0 && numNodes != expected))
+    return r.Fail(what + " has " + std::to_string(std::max(numNodes, 0)) +
+                      " nodes after its " + std::to_string(numTags) + " tags, expected " +
+                      (expected > 0 ? std::to_string(expected) : std::string("at least 1")),
+                  error);
+  // every element's nodes must exist; only the wanted type is kept
+  std::array<int, N> element{};
+  for (int k = 0; k < numNodes; ++k) {
+    int nodeId = 0;
+    ParseInt(r[3 + numTags + k], nodeId);
+    auto const it = nodeOfId.find(nodeId);
+    if (it == nodeOfId.end())
+      return r.Fail(what + " node " + std::to_string(nodeId) +
+                        " is not defined in $Nodes (line " + std::to_string(nodesLine) +
+                        ")",
+                    error);
+    if (type == wantedType) element[k] = it->second;
+  }
+  if (type != wantedType) return true;
+  if (int const k = FindRepeat(element); k >= 0)
+    return r.Fail(what + " has node " + std::string(r[3 + numTags + k]) + " more than once",
+                  error);
+  elements.push_back(element);
+  return true;
+}
+
+template <size_t N>
+bool ReadGmsh(std::string const& path, int wantedType, char const* typeName,
+              DynamicArray<Real3>& nodesOut, DynamicArray<std::array<int, N>>& elementsOut,
+              Error& error) {
+  LineReader r;
+  if (!r.Open(path, '\0', error)) return false;
+
+  if (!ReadGmshFormat(r, error)) return false;
 
   DynamicArray<Real3> nodes;
   std::unordered_map<int, int> nodeOfId;      // Gmsh id -> index in `nodes`
@@ -541,52 +603,7 @@ bool ReadGmsh(std::string const& path, int wantedType, char const* typeName,
         for (int e = 0; e < count; ++e) {
           if (!r.Next()) return r.Fail(eof + std::to_string(e) + " were read", error);
           if (r[0].front() == '$') return r.Fail(early(e), error);
-          if (r.Size() < 3)
-            return r.Fail(
-                "element line " + Quoted(r.Text()) + " " +
-                    CountMismatch(r.Size(),
-                                  "at least 3 ('<id> <type> <#tags> <tags...> <nodes...>')"),
-                error);
-          int id = 0, type = 0, numTags = 0;
-          if (!ReadInt(r, 0, "element id", id, error) ||
-              !ReadInt(r, 1, "element type", type, error) ||
-              !ReadInt(r, 2, "number of tags", numTags, error))
-            return false;
-          std::string const what =
-              "element " + std::to_string(id) + " (type " + std::to_string(type) + ")";
-          if (numTags < 0)
-            return r.Fail(what + ": number of tags must be >= 0, got " + std::to_string(numTags),
-                          error);
-          for (size_t i = 3; i < r.Size(); ++i) {
-            int value;
-            if (!ReadInt(r, i, what + (i < 3 + size_t(numTags) ? " tag" : " node"), value, error))
-              return false;
-          }
-          int const numNodes = static_cast<int>(r.Size()) - 3 - numTags;
-          int const expected = GmshNodesPerElement(type);
-          if (numNodes < 1 || (expected > 0 && numNodes != expected))
-            return r.Fail(what + " has " + std::to_string(std::max(numNodes, 0)) +
-                              " nodes after its " + std::to_string(numTags) + " tags, expected " +
-                              (expected > 0 ? std::to_string(expected) : std::string("at least 1")),
-                          error);
-          // every element's nodes must exist; only the wanted type is kept
-          std::array<int, N> element{};
-          for (int k = 0; k < numNodes; ++k) {
-            int nodeId = 0;
-            ParseInt(r[3 + numTags + k], nodeId);
-            auto const it = nodeOfId.find(nodeId);
-            if (it == nodeOfId.end())
-              return r.Fail(what + " node " + std::to_string(nodeId) +
-                                " is not defined in $Nodes (line " + std::to_string(nodesLine) +
-                                ")",
-                            error);
-            if (type == wantedType) element[k] = it->second;
-          }
-          if (type != wantedType) continue;
-          if (int const k = FindRepeat(element); k >= 0)
-            return r.Fail(what + " has node " + std::string(r[3 + numTags + k]) + " more than once",
-                          error);
-          elements.push_back(element);
+          if (!ReadGmshElement(r, wantedType, nodeOfId, nodesLine, elements, error)) return false;
         }
       }
       std::string const end = "$End" + name;

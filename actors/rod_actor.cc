@@ -32,6 +32,102 @@ Real3 AnyNormal(Real3 const& tangent) {
 }
 }  // namespace
 
+namespace {
+/// The cross-section's area and moments (given, or of a circle of the radius).
+bool Section(RodActorParams const& params, real& area, real& inertia1, real& inertia2, real& torsion,
+             Error& error) {
+  using namespace internal;
+  if (params.sectionArea > 0) {
+    if (!CheckPositive(params.sectionArea, Field("sectionArea"), error) ||
+        !CheckPositive(params.secondMomentOfArea1, Field("secondMomentOfArea1"), error) ||
+        !CheckPositive(params.secondMomentOfArea2, Field("secondMomentOfArea2"), error) ||
+        !CheckPositive(params.torsionConstant, Field("torsionConstant"), error))
+      return false;
+    area = params.sectionArea;
+    inertia1 = params.secondMomentOfArea1;
+    inertia2 = params.secondMomentOfArea2;
+    torsion = params.torsionConstant;
+  } else {
+    if (!CheckFinite(params.sectionArea, Field("sectionArea"), error) ||
+        !CheckPositive(params.radius, Field("radius"), error))
+      return false;
+    real const r2 = params.radius * params.radius;
+    area = std::numbers::pi_v<real> * r2;
+    inertia1 = inertia2 = area * r2 / 4;
+    torsion = area * r2 / 2;
+  }
+  return true;
+}
+
+/// The elements' tangents (every element of non-zero length, none folding
+/// back) and rest material frames (given directors, or one transported along).
+bool RestFrames(RodActorParams const& params, DynamicArray<internal::RodReferenceFrame>& frames, Error& error) {
+  using namespace internal;
+  int const numElements = static_cast<int>(frames.size());
+  DynamicArray<Real3> tangents(numElements);
+  for (int e = 0; e < numElements; ++e) {
+    Real3 const edge = params.nodes[e + 1] - params.nodes[e];
+    if (!std::isfinite(edge.norm())) {
+      error.Set(ErrorCode::InvalidArgument, Field("nodes") + ": element " + std::to_string(e) + " (nodes " +
+                                                std::to_string(e) + ", " + std::to_string(e + 1) + " at " +
+                                                Format(params.nodes[e]) + " and " + Format(params.nodes[e + 1]) +
+                                                ") is too long: its length overflows");
+      return false;
+    }
+    real const scale = std::max(params.nodes[e].norm(), params.nodes[e + 1].norm());
+    if (!(edge.norm() > 1e-12 * std::max<real>(scale, 1e-300))) {
+      error.Set(ErrorCode::InvalidArgument, Field("nodes") + ": element " + std::to_string(e) + " (nodes " +
+                                                std::to_string(e) + ", " + std::to_string(e + 1) +
+                                                ") has zero length");
+      return false;
+    }
+    tangents[e] = edge.normalized();
+    if (e > 0 && 1 + tangents[e - 1].dot(tangents[e]) < 1e-8) {
+      error.Set(ErrorCode::InvalidArgument, Field("nodes") + ": the rod folds back on itself at node " +
+                                                std::to_string(e) + " (its elements are antiparallel)");
+      return false;
+    }
+  }
+  // rest material frames
+  if (!params.materialDirectors.empty()) {
+    if (static_cast<int>(params.materialDirectors.size()) != numElements) {
+      error.Set(ErrorCode::InvalidArgument, Field("materialDirectors") +
+                                                " must be empty or hold one director per element (" +
+                                                std::to_string(numElements) + "), got " +
+                                                std::to_string(params.materialDirectors.size()));
+      return false;
+    }
+    for (int e = 0; e < numElements; ++e) {
+      std::string const name = Field("materialDirectors[" + std::to_string(e) + "]");
+      if (!CheckFinite(params.materialDirectors[e], name, error)) return false;
+      frames[e].tangent = tangents[e];
+      if (!NormalDirector(params.materialDirectors[e], tangents[e], frames[e].director)) {
+        error.Set(ErrorCode::InvalidArgument, name + " = " + Format(params.materialDirectors[e]) +
+                                                  " is zero or parallel to its element");
+        return false;
+      }
+    }
+  } else {
+    frames[0].tangent = tangents[0];
+    if (params.materialDirector.isZero()) {
+      frames[0].director = AnyNormal(tangents[0]);
+    } else if (!NormalDirector(params.materialDirector, tangents[0], frames[0].director)) {
+      error.Set(ErrorCode::InvalidArgument, Field("materialDirector") + " = " +
+                                                Format(params.materialDirector) +
+                                                " is parallel to the first element");
+      return false;
+    }
+    for (int e = 1; e < numElements; ++e) {
+      frames[e].tangent = tangents[e];
+      frames[e].director =
+          TransportDirector(tangents[e - 1], tangents[e], frames[e - 1].director).normalized();
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 std::unique_ptr<RodActor> RodActor::Create(RodActorParams const& params, Error& error) {
   using namespace internal;
   int const numNodes = static_cast<int>(params.nodes.size());
@@ -55,86 +151,10 @@ std::unique_ptr<RodActor> RodActor::Create(RodActorParams const& params, Error& 
   }
   // section
   real area, inertia1, inertia2, torsion;
-  if (params.sectionArea > 0) {
-    if (!CheckPositive(params.sectionArea, Field("sectionArea"), error) ||
-        !CheckPositive(params.secondMomentOfArea1, Field("secondMomentOfArea1"), error) ||
-        !CheckPositive(params.secondMomentOfArea2, Field("secondMomentOfArea2"), error) ||
-        !CheckPositive(params.torsionConstant, Field("torsionConstant"), error))
-      return nullptr;
-    area = params.sectionArea;
-    inertia1 = params.secondMomentOfArea1;
-    inertia2 = params.secondMomentOfArea2;
-    torsion = params.torsionConstant;
-  } else {
-    if (!CheckFinite(params.sectionArea, Field("sectionArea"), error) ||
-        !CheckPositive(params.radius, Field("radius"), error))
-      return nullptr;
-    real const r2 = params.radius * params.radius;
-    area = std::numbers::pi_v<real> * r2;
-    inertia1 = inertia2 = area * r2 / 4;
-    torsion = area * r2 / 2;
-  }
+  if (!Section(params, area, inertia1, inertia2, torsion, error)) return nullptr;
   int const numElements = numNodes - 1;
-  DynamicArray<Real3> tangents(numElements);
-  for (int e = 0; e < numElements; ++e) {
-    Real3 const edge = params.nodes[e + 1] - params.nodes[e];
-    if (!std::isfinite(edge.norm())) {
-      error.Set(ErrorCode::InvalidArgument, Field("nodes") + ": element " + std::to_string(e) + " (nodes " +
-                                                std::to_string(e) + ", " + std::to_string(e + 1) + " at " +
-                                                Format(params.nodes[e]) + " and " + Format(params.nodes[e + 1]) +
-                                                ") is too long: its length overflows");
-      return nullptr;
-    }
-    real const scale = std::max(params.nodes[e].norm(), params.nodes[e + 1].norm());
-    if (!(edge.norm() > 1e-12 * std::max<real>(scale, 1e-300))) {
-      error.Set(ErrorCode::InvalidArgument, Field("nodes") + ": element " + std::to_string(e) + " (nodes " +
-                                                std::to_string(e) + ", " + std::to_string(e + 1) +
-                                                ") has zero length");
-      return nullptr;
-    }
-    tangents[e] = edge.normalized();
-    if (e > 0 && 1 + tangents[e - 1].dot(tangents[e]) < 1e-8) {
-      error.Set(ErrorCode::InvalidArgument, Field("nodes") + ": the rod folds back on itself at node " +
-                                                std::to_string(e) + " (its elements are antiparallel)");
-      return nullptr;
-    }
-  }
-  // rest material frames
   DynamicArray<RodReferenceFrame> frames(numElements);
-  if (!params.materialDirectors.empty()) {
-    if (static_cast<int>(params.materialDirectors.size()) != numElements) {
-      error.Set(ErrorCode::InvalidArgument, Field("materialDirectors") +
-                                                " must be empty or hold one director per element (" +
-                                                std::to_string(numElements) + "), got " +
-                                                std::to_string(params.materialDirectors.size()));
-      return nullptr;
-    }
-    for (int e = 0; e < numElements; ++e) {
-      std::string const name = Field("materialDirectors[" + std::to_string(e) + "]");
-      if (!CheckFinite(params.materialDirectors[e], name, error)) return nullptr;
-      frames[e].tangent = tangents[e];
-      if (!NormalDirector(params.materialDirectors[e], tangents[e], frames[e].director)) {
-        error.Set(ErrorCode::InvalidArgument, name + " = " + Format(params.materialDirectors[e]) +
-                                                  " is zero or parallel to its element");
-        return nullptr;
-      }
-    }
-  } else {
-    frames[0].tangent = tangents[0];
-    if (params.materialDirector.isZero()) {
-      frames[0].director = AnyNormal(tangents[0]);
-    } else if (!NormalDirector(params.materialDirector, tangents[0], frames[0].director)) {
-      error.Set(ErrorCode::InvalidArgument, Field("materialDirector") + " = " +
-                                                Format(params.materialDirector) +
-                                                " is parallel to the first element");
-      return nullptr;
-    }
-    for (int e = 1; e < numElements; ++e) {
-      frames[e].tangent = tangents[e];
-      frames[e].director =
-          TransportDirector(tangents[e - 1], tangents[e], frames[e - 1].director).normalized();
-    }
-  }
+  if (!RestFrames(params, frames, error)) return nullptr;
   if (!params.initialVelocities.empty() && static_cast<int>(params.initialVelocities.size()) != numNodes) {
     error.Set(ErrorCode::InvalidArgument, Field("initialVelocities") +
                                               " must be empty or hold one entry per node (" +

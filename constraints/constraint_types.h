@@ -17,7 +17,8 @@
 //     file   constraints/file.h and constraints/file.cc declare and define
 //            the params, the class and Class::Create
 //
-// The order is ConstraintType's (its values are stable: append new types).
+// The order is ConstraintType's (its values are stable: append new types
+// before the blank line that ends the list; every entry ends in a backslash).
 #pragma once
 
 // clang-format off
@@ -36,5 +37,6 @@
   X(ArticulatedSingleDofRange, ArticulatedSingleDofConstraint, articulated_joint_constraints)          \
   X(Articulated3dRotationTarget, Articulated3dRotationConstraint, articulated_joint_constraints)       \
   X(Articulated3dRotationRange, Articulated3dRotationConstraint, articulated_joint_constraints)        \
-  X(RodElementRotationToRigid, RodElementRotationToRigidConstraint, rod_element_rotation_to_rigid)
+  X(RodElementRotationToRigid, RodElementRotationToRigidConstraint, rod_element_rotation_to_rigid)       \
+
 // clang-format on

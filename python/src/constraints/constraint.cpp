@@ -9,22 +9,11 @@
 namespace superdex::python {
 
 void DefineConstraint(py::module_& m) {
-  py::enum_<ConstraintType>(m, "ConstraintType", "The constraint types of constraints.md.")
-      .value("RigidSphericalJoint", ConstraintType::RigidSphericalJoint)
-      .value("RigidPrismaticJoint", ConstraintType::RigidPrismaticJoint)
-      .value("JointRotationRange", ConstraintType::JointRotationRange)
-      .value("JointRotationTracking", ConstraintType::JointRotationTracking)
-      .value("RigidPivotPosition", ConstraintType::RigidPivotPosition)
-      .value("RigidPivotToRigidTarget", ConstraintType::RigidPivotToRigidTarget)
-      .value("RigidPivotRotation", ConstraintType::RigidPivotRotation)
-      .value("DeformableNodePosition", ConstraintType::DeformableNodePosition)
-      .value("DeformableNodeToDeformableNode", ConstraintType::DeformableNodeToDeformableNode)
-      .value("DeformableNodeToRigid", ConstraintType::DeformableNodeToRigid)
-      .value("ArticulatedSingleDofTarget", ConstraintType::ArticulatedSingleDofTarget)
-      .value("ArticulatedSingleDofRange", ConstraintType::ArticulatedSingleDofRange)
-      .value("Articulated3dRotationTarget", ConstraintType::Articulated3dRotationTarget)
-      .value("Articulated3dRotationRange", ConstraintType::Articulated3dRotationRange)
-      .value("RodElementRotationToRigid", ConstraintType::RodElementRotationToRigid);
+  py::enum_<ConstraintType> types(m, "ConstraintType",
+                                  "The constraint types (constraints/constraint_types.h, one line each).");
+#define SUPERDEX_BIND_TYPE_VALUE(Name, Class, file) types.value(#Name, ConstraintType::Name);
+  SUPERDEX_CONSTRAINT_TYPES(SUPERDEX_BIND_TYPE_VALUE)
+#undef SUPERDEX_BIND_TYPE_VALUE
 
   py::enum_<QueryType>(m, "QueryType", "Queries a constraint can record during steps.")
       .value("ConstraintForce", QueryType::ConstraintForce,
