@@ -8,6 +8,7 @@
 #include <superdex/assembly/hessian_assembler.h>
 #include <superdex/core/so3.h>
 #include <superdex/core/validate.h>
+#include <superdex/linsolve/linear_solver.h>
 
 namespace superdex {
 
@@ -185,6 +186,15 @@ std::unique_ptr<ArticulatedActor> ArticulatedActor::Create(ArticulatedActorParam
     return nullptr;
   }
 
+  if (params.blockSolve == ArticulatedBlockSolve::Dense && numDofs > kDenseSolverMaxUnknowns) {
+    // the dense block's modified Cholesky is O(n³) per Newton iteration
+    // (3.1 s per step at 2,400 DoFs, minutes at 5,100)
+    error.Set(ErrorCode::InvalidArgument,
+              "ArticulatedActorParams.blockSolve = Dense takes at most kDenseSolverMaxUnknowns = " +
+                  std::to_string(kDenseSolverMaxUnknowns) + " DoFs (the dense block is factorized in O(n³) every "
+                  "Newton iteration), got " + std::to_string(numDofs) + " DoFs; use Tree");
+    return nullptr;
+  }
   std::unique_ptr<ArticulatedActor> actor(new ArticulatedActor(numDofs));
   ArticulatedActor& a = *actor;
   a.links_ = std::move(links);
@@ -640,10 +650,14 @@ void ArticulatedActor::BeginStage(internal::StageContext const& context) {
   // Newton's first iterate: the prediction, or, with a history, the joint
   // velocity extrapolated at the last step's acceleration,
   // v* = vⁿ + (h/hₚ)(vⁿ − vⁿ⁻¹), placed as the stage's update places a
-  // velocity: Δ = c Δₚ + β h v* (the minimizer does not depend on it)
+  // velocity: Δ = c Δₚ + β h v* (the minimizer does not depend on it). Only
+  // where h/hₚ <= kMaxExtrapolationRatio: after a much shorter step (1e-15 s)
+  // vⁿ − vⁿ⁻¹ is round-off of the positions divided by hₚ, not an
+  // acceleration, and h/hₚ would carry it to a first iterate Newton cannot
+  // come back from; the prediction is the first iterate then
   firstIterate_ = jointTarget_;
-  if (extrapolateFirstIterate_ && state_.hasHistory && state_.lastStageDuration > 0) {
-    real const r = stage_.duration / state_.lastStageDuration;
+  real const r = state_.lastStageDuration > 0 ? stage_.duration / state_.lastStageDuration : 0;
+  if (extrapolateFirstIterate_ && state_.hasHistory && r > 0 && r <= kMaxExtrapolationRatio) {
     firstIterate_ += betaH * ((1 - stage_.aVelocity + r) * state_.jointVelocity -
                               (stage_.bVelocity + r) * state_.previousJointVelocity);
   }

@@ -77,6 +77,12 @@ int JointDofs(JointType type);
 
 /// How the actor's Newton block is solved (the file comment).
 enum class ArticulatedBlockSolve { Tree, Dense };
+
+/// The largest ratio h/hₚ of a step to the one before it at which Newton's
+/// first iterate is extrapolated (ArticulatedActorParams::
+/// extrapolateFirstIterate): the last step's velocity difference estimates
+/// the acceleration only where hₚ is not much shorter than h.
+inline constexpr real kMaxExtrapolationRatio = 4;
 std::string_view ToString(ArticulatedBlockSolve solve);
 
 struct ArticulatedLinkParams {
@@ -110,7 +116,9 @@ struct ArticulatedActorParams {
   /// last step's acceleration (true), or the constant-velocity prediction
   /// Δ̂q (false). Both converge to the same state (to the Newton tolerance);
   /// the extrapolated one in fewer iterations while the motion is smooth
-  /// (docs/articulated.md, "Newton's first iterate").
+  /// (docs/articulated.md, "Newton's first iterate"). A step more than
+  /// kMaxExtrapolationRatio times longer than the last one starts from the
+  /// prediction.
   bool extrapolateFirstIterate = true;
 };
 

@@ -9,6 +9,8 @@
 
 #include <superdex/core/error.h>
 
+#include <string>
+
 namespace superdex {
 
 class Communicator {
@@ -27,10 +29,17 @@ class Communicator {
   /// False for the one-process default.
   bool IsSet() const { return set_; }
   int GetFortranHandle() const { return handle_; }
-  /// MPI_Comm_size (1 for the default or when MPI is not initialized).
+  /// MPI_Comm_size (1 for the default, when MPI is not initialized, or for
+  /// a handle that names no communicator: see Check).
   int GetSize() const;
-  /// MPI_Comm_rank (0 for the default or when MPI is not initialized).
+  /// MPI_Comm_rank (0 for the default, when MPI is not initialized, or for
+  /// a handle that names no communicator).
   int GetRank() const;
+
+  /// True for the default, or where MPI runs and MPI_Comm_f2c turns the
+  /// handle into a communicator; otherwise false with InvalidArgument naming
+  /// `field` and the handle. Scene::Create checks SceneParams::communicator.
+  bool Check(std::string const& field, Error& error) const;
 
  private:
   explicit Communicator(int handle) : set_(true), handle_(handle) {}

@@ -73,6 +73,16 @@ std::string CheckPattern(SparseSymmetricMatrix const& a) {
       }
     }
   }
+  // the DoF blocks (optional): positive sizes covering the unknowns
+  std::int64_t covered = 0;
+  for (std::size_t b = 0; b < a.blockSizes.size(); ++b) {
+    if (a.blockSizes[b] < 1)
+      return "A.blockSizes[" + std::to_string(b) + "] = " + std::to_string(a.blockSizes[b]) + " must be >= 1";
+    covered += a.blockSizes[b];
+  }
+  if (!a.blockSizes.empty() && covered != a.size)
+    return "A.blockSizes must add up to A.size = " + std::to_string(a.size) + " (or be empty), got " +
+           std::to_string(covered);
   return {};
 }
 
@@ -96,6 +106,17 @@ std::ptrdiff_t FirstNonFinite(Span<real const> v) {
     if (!std::isfinite(v[i])) return static_cast<std::ptrdiff_t>(i);
   }
   return -1;
+}
+
+bool IsLinearSolverType(LinearSolverType type) {
+  switch (type) {
+    case LinearSolverType::Auto:
+    case LinearSolverType::Cholmod:
+    case LinearSolverType::PetscPcg:
+    case LinearSolverType::Dense:
+    case LinearSolverType::PetscMumps: return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -294,7 +315,17 @@ DynamicArray<LinearSolverType> AvailableLinearSolvers() {
   return types;
 }
 
-LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size) {
+LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size, Error& error) {
+  if (!IsLinearSolverType(requested)) {
+    error.Set(ErrorCode::InvalidArgument, "ResolveLinearSolverType: requested is not a LinearSolverType (" +
+                                              std::to_string(static_cast<int>(requested)) + ")");
+    return LinearSolverType::Auto;
+  }
+  if (size < 0) {
+    error.Set(ErrorCode::InvalidArgument,
+              "ResolveLinearSolverType: size must be >= 0, got " + std::to_string(size));
+    return LinearSolverType::Auto;
+  }
   if (requested != LinearSolverType::Auto) return requested;
 #if SUPERDEX_HAS_CHOLMOD
   return size <= kDenseSolverMaxSize ? LinearSolverType::Dense : LinearSolverType::Cholmod;

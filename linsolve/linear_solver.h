@@ -91,14 +91,18 @@ struct PcgParams {
   int iccLevels = 0;          ///< Icc and BlockJacobi: fill levels of ICC, >= 0
   /// Extra PETSc options for power users, e.g. "-ksp_norm_type unpreconditioned
   /// -pc_gamg_threshold 0.02". Applied after the settings above (so they win);
-  /// each option is scoped to this solver. An option PETSc does not use is an
-  /// error.
+  /// each option is scoped to this solver. An option PETSc does not use, or
+  /// whose value it cannot read, is an error where the params are given
+  /// (ValidatePcgParams).
   std::string options;
 };
 
 /// Checks every field of `params`; returns false and names the field and
 /// value in `error` (kInvalidArgument) when one is out of range, and
-/// kNotSupported when the preconditioner is not in this build.
+/// kNotSupported when the preconditioner is not in this build. Non-empty
+/// `options` are tried in one set-up on a small system (this starts PETSc):
+/// an option PETSc does not use, or whose value it cannot read, is refused
+/// here rather than at the next step.
 bool ValidatePcgParams(PcgParams const& params, Error& error);
 
 /// The preconditioners compiled into this build (BoomerAmg only with hypre).
@@ -264,8 +268,11 @@ class LinearSolver {
 /// The backends compiled into this build (kAuto not included).
 DynamicArray<LinearSolverType> AvailableLinearSolvers();
 
-/// The backend kAuto resolves to for a system of `size` unknowns.
-LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size);
+/// The backend `requested` resolves to for a system of `size` unknowns:
+/// itself, or for Auto Dense up to kDenseSolverMaxSize unknowns and CHOLMOD
+/// above. InvalidArgument (and Auto) for a value that is not a
+/// LinearSolverType or a negative size.
+LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size, Error& error);
 
 /// A new solver of a concrete type (not kAuto); `pcg` configures the PETSc
 /// backend (and is ignored by the others). Returns nullptr and sets `error`

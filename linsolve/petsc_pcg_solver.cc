@@ -806,6 +806,34 @@ bool ValidatePcgParams(PcgParams const& params, Error& error) {
     return invalid("options: '" + bad +
                    "' is neither a PETSc option name (-name) nor the value of the option before it"
                    ", in \"" + params.options + "\"");
+  if (!pairs.empty()) {
+    // an option PETSc does not use, or whose value it cannot read, shows
+    // only in a set-up: one on a small SPD system (a 1-D Laplacian of 8
+    // unknowns in blocks of 2) refuses it here, not at the next step
+    if (!internal::EnsurePetscInitialized(error)) return false;
+    SparseSymmetricMatrix a;
+    a.size = 8;
+    a.blockSizes.assign(4, 2);
+    a.colStart.push_back(0);
+    for (int j = 0; j < a.size; ++j) {
+      if (j > 0) {
+        a.rowIndex.push_back(j - 1);
+        a.values.push_back(-1);
+      }
+      a.rowIndex.push_back(j);
+      a.values.push_back(3);
+      a.colStart.push_back(static_cast<int>(a.rowIndex.size()));
+    }
+    internal::PetscPcgSolver trial(params);
+    LinearSolveResult result = trial.Analyze(a);
+    if (result.Ok()) result = trial.Factorize(a);
+    if (!result.Ok()) {
+      std::string reason = result.reason;
+      if (reason.rfind("PcgParams.options", 0) != 0) reason = "PcgParams.options: " + reason;
+      error.Set(ErrorCode::InvalidArgument, reason + ", in \"" + params.options + "\"");
+      return false;
+    }
+  }
   return true;
 }
 

@@ -4,6 +4,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <initializer_list>
+#include <iterator>
+#include <string_view>
 #include <type_traits>
 
 #include <superdex/core/validate.h>
@@ -15,6 +19,9 @@ namespace {
 /// Why `map` has no object for `h`: issued by another scene, or null/stale.
 template <class T, class Tag>
 std::string WhyMissing(internal::SlotMap<T, Tag> const& map, Handle<Tag> h, std::uint32_t sceneId) {
+  // scene 0 issues nothing: such a handle was made by hand, not by a scene
+  if (map.IsForeign(h) && h.scene == 0)
+    return "was issued by no scene (scene 0; this is scene " + std::to_string(sceneId) + ")";
   if (map.IsForeign(h))
     return "belongs to another scene (this is scene " + std::to_string(sceneId) + ")";
   return "is null or stale";
@@ -45,10 +52,19 @@ std::uint32_t NextSceneId() {
 // sub-step, so the cap is itself an attempt and dt/k is exact
 bool CheckSubstepParams(SubstepParams const& p, std::string const& prefix, Error& error) {
   int const n = p.maxSubsteps;
-  if (n < 1 || (n & (n - 1)) != 0) {
-    error.Set(ErrorCode::InvalidArgument,
-              prefix + "maxSubsteps must be a power of two >= 1 (1 turns sub-stepping off), got " +
-                  std::to_string(n));
+  if (n < 1 || n > kMaxSubsteps || (n & (n - 1)) != 0) {
+    error.Set(ErrorCode::InvalidArgument, prefix + "maxSubsteps must be a power of two in [1, kMaxSubsteps = " +
+                                              std::to_string(kMaxSubsteps) +
+                                              "] (1 turns sub-stepping off), got " + std::to_string(n));
+    return false;
+  }
+  return true;
+}
+
+bool CheckNumThreads(int numThreads, std::string const& field, Error& error) {
+  if (numThreads < 0 || numThreads > kMaxThreads) {
+    error.Set(ErrorCode::InvalidArgument, field + " must be in [0, kMaxThreads = " + std::to_string(kMaxThreads) +
+                                              "] (0: every CPU), got " + std::to_string(numThreads));
     return false;
   }
   return true;
@@ -116,11 +132,8 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
     return nullptr;
   }
   if (!CheckSubstepParams(params.substeps, "SceneParams.substeps.", error)) return nullptr;
-  if (params.numThreads < 0) {
-    error.Set(ErrorCode::InvalidArgument,
-              "SceneParams.numThreads must be >= 0 (0: every CPU), got " + std::to_string(params.numThreads));
-    return nullptr;
-  }
+  if (!CheckNumThreads(params.numThreads, "SceneParams.numThreads", error)) return nullptr;
+  if (!params.communicator.Check("SceneParams.communicator", error)) return nullptr;
   std::unique_ptr<Scene> scene(new Scene(params));
   scene->solver_->SetCommunicator(params.communicator);
   scene->solver_->SetNumThreads(params.numThreads);
@@ -335,11 +348,7 @@ bool Scene::SetSubstepParams(SubstepParams const& substeps, Error& error) {
 }
 
 bool Scene::SetNumThreads(int numThreads, Error& error) {
-  if (numThreads < 0) {
-    error.Set(ErrorCode::InvalidArgument,
-              "numThreads must be >= 0 (0: every CPU), got " + std::to_string(numThreads));
-    return false;
-  }
+  if (!CheckNumThreads(numThreads, "numThreads", error)) return false;
   solver_->SetNumThreads(numThreads);
   params_.numThreads = numThreads;
   return true;
@@ -349,6 +358,7 @@ int Scene::GetNumThreads() const { return solver_->GetNumThreads(); }
 
 bool Scene::Step(real dt, Error& error) {
   if (!internal::CheckPositive(dt, "dt", error)) return false;
+  if (solver_->IsDistributed() && !CheckRanksAgree(dt, error)) return false;
   auto const start = std::chrono::steady_clock::now();
 
   // reset the per-step figures
@@ -426,8 +436,10 @@ bool Scene::Step(real dt, Error& error) {
     std::string where = stageError.GetMessage();
     if (substeps > 1) {
       std::string attempts = "1";
-      for (int k = 2; k <= substeps; k *= 2)
+      for (int k = 1; k < substeps;) {  // (k doubles up to substeps, never past it)
+        k *= 2;
         attempts += (k == substeps ? " and " : ", ") + std::to_string(k);
+      }
       real const h = dt / substeps;
       where = "sub-step " + std::to_string(failedSubstep) + " of " + std::to_string(substeps) +
               " (dt/" + std::to_string(substeps) + " = " + internal::Format(h) +
@@ -447,6 +459,70 @@ bool Scene::Step(real dt, Error& error) {
   if (substeps > 1) ++stats_.substeppedSteps;
   stats_.stepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return true;
+}
+
+bool Scene::CheckRanksAgree(real dt, Error& error) {
+  // every rank must make the same calls with the same arguments
+  // (docs/distributed.md): what steers the step's collective control flow,
+  // as bits, compared in one reduction before anything collective runs. A
+  // rank stepping another dt, with sub-stepping on alone or with other
+  // tolerances would drift apart silently or wait forever for the others
+  auto bits = [](auto value) {
+    std::uint64_t out = 0;
+    if constexpr (std::is_floating_point_v<decltype(value)>)
+      std::memcpy(&out, &value, sizeof value);
+    else
+      out = static_cast<std::uint64_t>(value);
+    return out;
+  };
+  auto hash = [&](std::initializer_list<std::uint64_t> values, std::string_view text = {}) {
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+    auto add = [&](std::uint64_t word) {
+      for (int b = 0; b < 8; ++b) h = (h ^ ((word >> (8 * b)) & 0xff)) * 1099511628211ull;
+    };
+    for (std::uint64_t v : values) add(v);
+    for (char c : text) add(static_cast<unsigned char>(c));
+    return h;
+  };
+  NewtonParams const& n = params_.newton;
+  PcgParams const& p = params_.pcg;
+  std::uint64_t const values[] = {
+      bits(dt),
+      bits(time_),
+      bits(params_.substeps.maxSubsteps),
+      hash({bits(params_.integrator), bits(params_.gravity.x()), bits(params_.gravity.y()),
+            bits(params_.gravity.z()), bits(params_.ordering), bits(params_.patternPolicy)}),
+      hash({bits(n.maxIterations), bits(n.velocityTolerance), bits(n.maxLineSearchSteps),
+            bits(n.hessianProjection), bits(n.constraintHessian), bits(n.nearRigidBeta),
+            bits(n.reuseFactorization), bits(n.factorReuseTolerance), bits(n.reuseForcingTerms),
+            bits(n.singlePrecisionReusedFactor)}),
+      hash({bits(params_.linearSolver), bits(p.preconditioner), bits(p.relativeTolerance),
+            bits(p.absoluteTolerance), bits(p.maxIterations), bits(p.adaptiveTolerance),
+            bits(p.adaptiveMaxTolerance), bits(p.truncatedSteps), bits(p.preconditionerLag),
+            bits(p.reuseAmgInterpolation), bits(p.blockJacobiBlocks), bits(p.iccLevels)},
+           p.options),
+      bits(actorOrder_.size()),
+      bits(constraintOrder_.size()),
+  };
+  static constexpr char const* kWhat[] = {
+      "dt",
+      "the scene time",
+      "SceneParams.substeps.maxSubsteps",
+      "SceneParams.integrator, gravity, ordering or patternPolicy",
+      "SceneParams.newton",
+      "SceneParams.linearSolver or pcg",
+      "the number of actors",
+      "the number of constraints",
+  };
+  static_assert(std::size(values) == std::size(kWhat));
+  int const first = solver_->FirstRankDisagreement(Span<std::uint64_t const>(values, std::size(values)));
+  if (first < 0) return true;
+  error.Set(ErrorCode::InvalidArgument,
+            "Step: the " + std::to_string(solver_->GetNumRanks()) +
+                " ranks of SceneParams.communicator disagree on " + kWhat[first] +
+                " (every rank must make the same calls with the same arguments: docs/distributed.md); "
+                "the scene is unchanged");
+  return false;
 }
 
 bool Scene::AdvanceSubsteps(real dt, int substeps, real& historyStep, int& failedSubstep,

@@ -175,6 +175,9 @@ class Scene : private internal::ActorLookup {
   /// One attempt at a step of dt as `substeps` equal sub-steps from the
   /// current (pre-step) state; on failure `failedSubstep` is the 1-based
   /// sub-step that failed and the scene is left at some iterate.
+  /// Across ranks: false on every rank, with InvalidArgument, where the
+  /// ranks step with different arguments or settings (one reduction).
+  bool CheckRanksAgree(real dt, Error& error);
   bool AdvanceSubsteps(real dt, int substeps, real& historyStep, int& failedSubstep, Error& error);
   /// Puts back the actors and the old targets saved at the step start.
   void RestorePreStepState();

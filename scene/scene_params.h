@@ -32,10 +32,21 @@ namespace superdex {
 /// dt is reported, not hidden; SceneStats::substeps and substeppedSteps say
 /// when it was used.
 struct SubstepParams {
-  /// The most sub-steps one step may be split into: a power of two >= 1.
-  /// 1 (the default) turns sub-stepping off.
+  /// The most sub-steps one step may be split into: a power of two in
+  /// [1, kMaxSubsteps]. 1 (the default) turns sub-stepping off.
   int maxSubsteps = 1;
 };
+
+/// The largest SubstepParams::maxSubsteps: 4096 sub-steps (12 halvings) of
+/// a step that fails every attempt cost up to 8191 stage solves; a step that
+/// needs dt/4096 to converge is better taken as shorter steps.
+inline constexpr int kMaxSubsteps = 4096;
+
+/// The largest SceneParams::numThreads: each assembly thread is a worker of
+/// the threading library with its own stack and per-thread scratch; 1000
+/// workers exhausted a 4 GB address space and aborted the process. 256 is
+/// far above the CPUs of one node, which is what the assembly can use.
+inline constexpr int kMaxThreads = 256;
 
 struct SceneParams {
   Real3 gravity{0, -9.81, 0};  ///< [m/s²]; y is up
@@ -53,7 +64,7 @@ struct SceneParams {
   /// concurrently): 0 (the default) uses every CPU this process may run on,
   /// n >= 1 exactly n. The assembled Hessian and gradient, hence every
   /// result, are bit-identical for any thread count (docs/architecture.md,
-  /// "Parallel assembly"). >= 0.
+  /// "Parallel assembly"). In [0, kMaxThreads].
   int numThreads = 0;
   /// The MPI ranks the scene runs on (docs/distributed.md). The default is
   /// one process. With R > 1 ranks, every rank runs the same program and

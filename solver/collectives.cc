@@ -21,6 +21,21 @@ bool OnAllRanks(Communicator const& communicator, bool value) {
   return all != 0;
 }
 
+int FirstDisagreement(Communicator const& communicator, Span<std::uint64_t const> values,
+                      DynamicArray<std::uint64_t>& scratch) {
+  std::size_t const n = values.size();
+  scratch.resize(2 * n);
+  for (std::size_t k = 0; k < n; ++k) {
+    scratch[k] = values[k];
+    scratch[n + k] = ~values[k];  // its minimum is the complement of the maximum
+  }
+  MPI_Allreduce(MPI_IN_PLACE, scratch.data(), static_cast<int>(2 * n), MPI_UINT64_T, MPI_MIN,
+                ToMpiComm(communicator));
+  for (std::size_t k = 0; k < n; ++k)
+    if (scratch[k] != ~scratch[n + k]) return static_cast<int>(k);
+  return -1;
+}
+
 void SumInRankOrder(Communicator const& communicator, Span<real> values, DynamicArray<real>& scratch) {
   int const count = static_cast<int>(values.size());
   MPI_Allgather(values.data(), count, MPI_DOUBLE, scratch.data(), count, MPI_DOUBLE, ToMpiComm(communicator));
@@ -70,6 +85,10 @@ void RankGroup::GatherGradient(HessianAssembler const& assembler, Span<real> gra
 void RankGroup::SumInRankOrder(Span<real> values) { internal::SumInRankOrder(communicator_, values, rankSums_); }
 
 bool RankGroup::OnAllRanks(bool value) const { return internal::OnAllRanks(communicator_, value); }
+
+int RankGroup::FirstDisagreement(Span<std::uint64_t const> values) {
+  return IsDistributed() ? internal::FirstDisagreement(communicator_, values, agreement_) : -1;
+}
 
 OwnedRowsProduct& RankGroup::GetProduct(HessianAssembler const& assembler) {
   ownedRowsProduct_.Set(communicator_, &assembler.GetPartRowStart());

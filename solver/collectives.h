@@ -6,6 +6,8 @@
 // the same on every rank by AgreeOnResult, petsc_distributed_matrix.h.)
 #pragma once
 
+#include <cstdint>
+
 #include <superdex/core/communicator.h>
 #include <superdex/core/types.h>
 #include <superdex/assembly/hessian_assembler.h>
@@ -23,6 +25,13 @@ void AllgatherRows(Communicator const& communicator, DynamicArray<int> const& pa
 
 /// True on every rank when `value` is true on every rank (MPI_LAND).
 bool OnAllRanks(Communicator const& communicator, bool value);
+
+/// The index of the first of `values` that differs between the ranks, the
+/// same on every rank, or -1 where all agree: one MPI_Allreduce (MPI_MIN over
+/// the values and their complements, giving the minimum and the maximum).
+/// `scratch` is resized to twice the values.
+int FirstDisagreement(Communicator const& communicator, Span<std::uint64_t const> values,
+                      DynamicArray<std::uint64_t>& scratch);
 
 /// Each of `values` replaced by its sum over the ranks, added in rank order
 /// so that every rank gets the same bits (MPI_Allgather, then the sums).
@@ -65,6 +74,8 @@ class RankGroup {
   /// Each value summed over the ranks, in rank order (at most 2 values).
   void SumInRankOrder(Span<real> values);
   bool OnAllRanks(bool value) const;
+  /// FirstDisagreement across the group's ranks (-1 in one process).
+  int FirstDisagreement(Span<std::uint64_t const> values);
   /// The product of a reused-factor CG across the ranks.
   OwnedRowsProduct& GetProduct(HessianAssembler const& assembler);
 
@@ -75,6 +86,7 @@ class RankGroup {
   OwnedRowsProduct ownedRowsProduct_;
   DynamicArray<int> rankCounts_, rankDisplacements_;  ///< MPI_Allgatherv scratch
   DynamicArray<real> rankSums_;  ///< SumInRankOrder scratch: 2 per rank
+  DynamicArray<std::uint64_t> agreement_;  ///< FirstDisagreement scratch
 };
 
 }  // namespace superdex::internal

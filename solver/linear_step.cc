@@ -81,9 +81,14 @@ void LinearStep::Reserve(int numDofs, OrderingMethod ordering, std::int64_t hess
 bool LinearStep::Prepare(StageProblem const& problem, SceneStats& stats, Error& error) {
   SparseSymmetricMatrix const& matrix = assembler_.GetMatrix();
   // across ranks Auto is the distributed direct solver, as CHOLMOD is in one
+  Error resolveError;
   LinearSolverType const type = ranks_.IsDistributed() && requested_ == LinearSolverType::Auto
                                     ? LinearSolverType::PetscMumps
-                                    : ResolveLinearSolverType(requested_, matrix.size);
+                                    : ResolveLinearSolverType(requested_, matrix.size, resolveError);
+  if (resolveError) {
+    error = resolveError;
+    return false;
+  }
   if (!solver_ || solver_->GetType() != type) {
     if (type == LinearSolverType::Cholmod && ordering_ == OrderingMethod::SolverDefault)
       solver_ = std::make_unique<CholmodSolver>(CholmodOrdering::CholmodDefault);

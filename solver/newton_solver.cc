@@ -58,6 +58,16 @@ bool NewtonSolver::Analyze(DynamicArray<StageDofs*> dofs, DynamicArray<StageTerm
   DynamicArray<int> blockSizes;
   DynamicArray<DynamicArray<int>> contributorDofs;
   problem_.FlattenPattern(termDofs, blockSizes, contributorDofs);
+  for (DynamicArray<int> const& dofs : contributorDofs)
+    if (static_cast<int>(dofs.size()) > kDenseSolverMaxUnknowns) {
+      // (an articulated actor's dense block, where its tree solve is off)
+      error.Set(ErrorCode::InvalidArgument,
+                "a dense block of " + std::to_string(dofs.size()) + " DoFs (an articulated actor's, where it "
+                "cannot solve on its tree: ArticulatedBlockSolve::Dense, constraints on more than one of its "
+                "joints, or several ranks) is above kDenseSolverMaxUnknowns = " +
+                    std::to_string(kDenseSolverMaxUnknowns) + " DoFs in the scene's matrix");
+      return false;
+    }
   int const numDofs = problem_.GetNumDofs();
   if (!assembler_.Analyze(numDofs, blockSizes, contributorDofs, ordering, error, ranks_.GetSize(), ranks_.GetRank()))
     return false;

@@ -55,6 +55,10 @@ class NewtonSolver {
   /// rows and the linear solver runs across the ranks (docs/distributed.md).
   void SetCommunicator(Communicator const& communicator);
   bool IsDistributed() const { return ranks_.IsDistributed(); }
+  int GetNumRanks() const { return ranks_.GetSize(); }
+  /// The first of `values` on which the ranks differ, or -1 (always -1 in
+  /// one process): a collective call's arguments checked before it acts.
+  int FirstRankDisagreement(Span<std::uint64_t const> values) { return ranks_.FirstDisagreement(values); }
   /// Threads of the assembly (SceneParams::numThreads: 0 = every CPU this
   /// process may use); the assembled values do not depend on it.
   void SetNumThreads(int numThreads);

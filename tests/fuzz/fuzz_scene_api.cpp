@@ -165,7 +165,12 @@ class Driver {
   bool Call(int s, Scene& scene) {
     Error error;
     bool ok = true;
-    switch (in_.Int(16)) {
+    // op bytes 240-255 select the calls added later (the options of the
+    // second hardening round), so that the corpus's earlier inputs decode
+    // as before wherever their op bytes are below 240
+    int const op = in_.Byte();
+    if (op >= 240) ok = ExtendedCall(s, op - 240, error);
+    else switch (op % 16) {
       case 0: {
         lastCall_ = "CreateRigidActor";
         RigidActorParams p;
@@ -321,6 +326,80 @@ class Driver {
     }
     if (!ok) Expect(static_cast<bool>(error), "a failed call set no Error", lastCall_);
     return ok;
+  }
+
+  /// The calls of the options that landed after the first round: thread
+  /// counts, sub-stepping, PCG's truncated steps, adaptive tolerance, lag and
+  /// PETSc options, a scene created anew with near-rigid caps and the other
+  /// SceneParams, and articulated actors with their options.
+  bool ExtendedCall(int s, int op, Error& error) {
+    switch (op % 5) {
+      case 0: {
+        // never kMaxThreads itself (256 workers), but past it and far past it
+        static int const kThreads[] = {0, 1, 2, 3, -1, kMaxThreads + 1, 1000, std::numeric_limits<int>::max()};
+        int const threads = kThreads[in_.Int(std::size(kThreads))];
+        lastCall_ = "SetNumThreads " + std::to_string(threads);
+        return scenes_[s]->SetNumThreads(threads, error);
+      }
+      case 1: {
+        static int const kSubsteps[] = {1, 2, 4, 8, 16, 0, -1, 3, 2 * kMaxSubsteps, 1 << 30};
+        int const substeps = kSubsteps[in_.Int(std::size(kSubsteps))];
+        lastCall_ = "SetSubstepParams " + std::to_string(substeps);
+        return scenes_[s]->SetSubstepParams({.maxSubsteps = substeps}, error);
+      }
+      case 2: {
+        static char const* const kOptions[] = {"", "-ksp_norm_type unpreconditioned", "-pc_gamg_no_such_option 3",
+                                               "-ksp_rtol abc", "bad", "-ksp_type"};
+        PcgParams pcg;
+        pcg.preconditioner = static_cast<PcgPreconditioner>(in_.Int(6));
+        pcg.truncatedSteps = in_.Int(2);
+        pcg.adaptiveTolerance = in_.Int(2);
+        if (!in_.Int(3)) pcg.adaptiveMaxTolerance = in_.Real();
+        if (!in_.Int(3)) pcg.preconditionerLag = in_.Int(8) - 2;
+        pcg.options = kOptions[in_.Int(std::size(kOptions))];
+        lastCall_ = "SetLinearSolver PetscPcg pc " + std::to_string(static_cast<int>(pcg.preconditioner)) +
+                    " options \"" + pcg.options + "\"";
+        return scenes_[s]->SetLinearSolver(LinearSolverType::PetscPcg, pcg, error);
+      }
+      case 3: {
+        lastCall_ = "Scene::Create anew";
+        SceneParams params;
+        params.newton.maxIterations = 1 + in_.Int(25);
+        params.numThreads = in_.Int(4);
+        params.substeps.maxSubsteps = 1 << in_.Int(4);
+        params.integrator = static_cast<IntegratorType>(in_.Int(3));
+        params.patternPolicy = static_cast<PatternPolicy>(in_.Int(3));
+        if (!in_.Int(2)) params.newton.nearRigidBeta = in_.Real();
+        params.newton.reuseFactorization = in_.Int(2);
+        params.newton.constraintHessian = static_cast<ConstraintHessian>(in_.Int(3));
+        std::unique_ptr<Scene> scene = Scene::Create(params, error);
+        if (!scene) return false;
+        // what the old scene issued stays in the pools: stale, foreign
+        // handles and pointers for the calls that follow
+        scenes_[s] = std::move(scene);
+        return true;
+      }
+      case 4: {
+        lastCall_ = "CreateArticulatedActor with options";
+        ArticulatedActorParams p;
+        p.blockSolve = static_cast<ArticulatedBlockSolve>(in_.Int(3));  // one past the last: invalid
+        p.extrapolateFirstIterate = in_.Int(2);
+        p.links.resize(1 + in_.Int(5));
+        for (std::size_t i = 0; i < p.links.size(); ++i) {
+          ArticulatedLinkParams& l = p.links[i];
+          l.parent = in_.Int(4) ? static_cast<int>(i) - 1 : in_.Int(8) - 2;
+          l.joint = static_cast<JointType>(in_.Int(5));
+          l.jointToChildPosition = Real3(0.2, 0, 0);
+          l.centerOfMass = Real3(0.1, 0, 0);
+          if (!in_.Int(3)) l.armature = in_.Real();
+          if (!in_.Int(3)) l.damping = in_.Real();
+          if (!in_.Int(4)) l.mass = in_.Real();
+          if (!in_.Int(4)) l.initialVelocity.assign(in_.Int(7), in_.Real());
+        }
+        return Track(s, scenes_[s]->CreateArticulatedActor(p, error));
+      }
+    }
+    return true;
   }
 
   // every type of constraints/constraint_types.h, its params from its

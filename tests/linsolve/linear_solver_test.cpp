@@ -319,6 +319,21 @@ TEST_CASE("bad input is refused with kInvalidInput", "[linsolve][input]") {
     negativeSize.size = -1;
     requireInvalidInput(solver->Analyze(negativeSize));
   }
+  SECTION("DoF blocks that do not cover the unknowns") {
+    // MUMPS and the dense solver accepted them
+    SparseSymmetricMatrix blocks = a;  // 16 unknowns
+    blocks.blockSizes = {4, 4, 4};
+    LinearSolveResult result = solver->Analyze(blocks);
+    requireInvalidInput(result);
+    REQUIRE(result.reason == "Analyze: A.blockSizes must add up to A.size = 16 (or be empty), got 12");
+    blocks.blockSizes = {4, 4, 4, 4, 0};
+    result = solver->Analyze(blocks);
+    requireInvalidInput(result);
+    REQUIRE(result.reason == "Analyze: A.blockSizes[4] = 0 must be >= 1");
+    REQUIRE(!solver->IsAnalyzed());
+    blocks.blockSizes = {4, 4, 4, 4};
+    REQUIRE(solver->Analyze(blocks).Ok());
+  }
   SECTION("values of the wrong length or not finite") {
     REQUIRE(solver->Analyze(a).Ok());
     SparseSymmetricMatrix shortValues = a;
@@ -411,17 +426,30 @@ TEST_CASE("the factory lists, resolves and creates backends", "[linsolve][factor
   REQUIRE(has(LinearSolverType::PetscMumps) == (SUPERDEX_HAS_PETSC != 0));
 
   SECTION("kAuto picks dense up to kDenseSolverMaxSize") {
+    Error error;
     REQUIRE(kDenseSolverMaxSize > 0);
-    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, 1) == LinearSolverType::Dense);
-    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, kDenseSolverMaxSize) ==
+    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, 1, error) == LinearSolverType::Dense);
+    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, kDenseSolverMaxSize, error) ==
             LinearSolverType::Dense);
     LinearSolverType const above =
         SUPERDEX_HAS_CHOLMOD ? LinearSolverType::Cholmod : LinearSolverType::Dense;
-    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, kDenseSolverMaxSize + 1) == above);
+    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, kDenseSolverMaxSize + 1, error) == above);
     for (LinearSolverType type : available) {
-      REQUIRE(ResolveLinearSolverType(type, 1) == type);
-      REQUIRE(ResolveLinearSolverType(type, 100000) == type);
+      REQUIRE(ResolveLinearSolverType(type, 1, error) == type);
+      REQUIRE(ResolveLinearSolverType(type, 100000, error) == type);
     }
+    REQUIRE_FALSE(error);
+  }
+  SECTION("a negative size or an unknown value is not resolved") {
+    // both were answered (Dense; the unknown value itself) without an error
+    Error error;
+    REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, -1, error) == LinearSolverType::Auto);
+    REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
+    REQUIRE(error.GetMessage() == "ResolveLinearSolverType: size must be >= 0, got -1");
+    error.Clear();
+    REQUIRE(ResolveLinearSolverType(static_cast<LinearSolverType>(99), 5, error) == LinearSolverType::Auto);
+    REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
+    REQUIRE(error.GetMessage() == "ResolveLinearSolverType: requested is not a LinearSolverType (99)");
   }
   SECTION("kAuto and unknown values are not creatable") {
     Error error;

@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <superdex/linsolve/linear_solver.h>
+#include <superdex/linsolve/petsc_pcg_solver.h>
 
 #include "linsolve/test_systems.h"
 
@@ -331,12 +332,27 @@ TEST_CASE("PETSc options pass through, scoped to the solver", "[linsolve][pcg][o
     REQUIRE(result.Ok());
     REQUIRE(solver->Solve(View(b), View(x)).Ok());
   }
-  SECTION("an option PETSc does not use is an error naming it") {
+  SECTION("an option PETSc does not use is an error naming it, where the params are given") {
     PcgParams params = WithPreconditioner(PcgPreconditioner::Jacobi);
     params.options = "-pc_gamg_threshold 0.02";  // not a Jacobi option
-    auto solver = MakePcg(params);
-    REQUIRE(solver->Analyze(a).Ok());
-    LinearSolveResult const result = solver->Factorize(a);
+    // refused by the factory (it was refused only at the first set-up, in a
+    // scene the next step)
+    Error error;
+    REQUIRE(CreateLinearSolver(LinearSolverType::PetscPcg, params, error) == nullptr);
+    CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+    CHECK(error.GetMessage() == "PcgParams.options: PETSc did not use the option '-pc_gamg_threshold' (unknown, "
+                                "or not applicable to preconditioner Jacobi), in \"-pc_gamg_threshold 0.02\"");
+    // a value PETSc cannot read, likewise
+    params.options = "-ksp_rtol abc";
+    REQUIRE_FALSE(ValidatePcgParams(params, error));
+    CHECK(Contains(error.GetMessage(), "PcgParams.options"));
+    CHECK(Contains(error.GetMessage(), "\"-ksp_rtol abc\""));
+    // the solver's own check at its first set-up stays, for a solver made
+    // without the factory
+    params.options = "-pc_gamg_threshold 0.02";
+    internal::PetscPcgSolver solver(params);
+    REQUIRE(solver.Analyze(a).Ok());
+    LinearSolveResult const result = solver.Factorize(a);
     CAPTURE(result.reason);
     REQUIRE(result.status == LinearSolveStatus::InvalidInput);
     REQUIRE(Contains(result.reason, "-pc_gamg_threshold"));

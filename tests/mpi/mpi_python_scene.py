@@ -59,7 +59,47 @@ def main():
         assert "Cholmod" in str(error) and "2 ranks" in str(error), str(error)
     else:
         raise AssertionError("CHOLMOD on 2 ranks was not refused")
+    check_disagreement(world)
     print(f"rank {world.get_rank()}: ok")
+
+
+def check_disagreement(world):
+    """Every rank must make the same calls with the same arguments: a dt, or a sub-stepping
+    policy, that differs between the ranks fails the step on both with one mochi.Error and
+    changes nothing (a different dt was accepted and the scene times drifted apart; sub-stepping
+    on one rank only deadlocked). A Fortran handle that names no communicator is refused
+    (it ran as one rank)."""
+    rank = world.get_rank()
+    scene, beam = beam_on(world, mochi.LinearSolverType.PetscMumps)
+    scene.step(DT)
+    before, time = beam.get_node_positions(), scene.get_time()
+
+    def refused(what):
+        try:
+            scene.step(DT * (1 + rank) if what == "dt" else DT)
+        except mochi.Error as error:
+            assert error.code == mochi.ErrorCode.InvalidArgument, error
+            assert f"ranks of SceneParams.communicator disagree on {what}" in str(error), str(error)
+            assert "the scene is unchanged" in str(error), str(error)
+        else:
+            raise AssertionError(f"a step with a different {what} per rank was accepted")
+        assert np.array_equal(beam.get_node_positions(), before) and scene.get_time() == time
+
+    refused("dt")
+    if rank == 1:
+        scene.set_substep_params(max_substeps=8)
+    refused("SceneParams.substeps.maxSubsteps")
+    scene.set_substep_params(max_substeps=8)
+    scene.step(DT)  # agreeing again: both step
+    assert scene.get_time() == time + DT
+
+    try:
+        mochi.Communicator.from_fortran_handle(12345)
+    except mochi.Error as error:
+        assert error.code == mochi.ErrorCode.InvalidArgument, error
+        assert "not a communicator of this process" in str(error), str(error)
+    else:
+        raise AssertionError("a Fortran handle that names no communicator was accepted")
 
 
 if __name__ == "__main__":

@@ -271,6 +271,54 @@ TEST_CASE("solvers of one process are refused across ranks, naming the field", "
   REQUIRE(scene->GetParams().linearSolver == LinearSolverType::PetscPcg);
 }
 
+TEST_CASE("a step whose dt or sub-stepping differs between the ranks fails on both and changes nothing",
+          "[mpi][refusal]") {
+  // a different dt per rank was accepted (the scene times drifted apart);
+  // sub-stepping on one rank only deadlocked. One reduction before the step
+  // refuses both on every rank with the same message
+  Error error;
+  Communicator const world = Communicator::World(error);
+  REQUIRE(world.GetSize() == 2);
+  perf::FamilyScene scene = Build("cantilever", "12x3x3", Params(world, Solver{LinearSolverType::PetscMumps}));
+  Steps(*scene.scene, 1);
+  DynamicArray<Real3> const before = scene.trackedPositions();
+  real const time = scene.scene->GetTime();
+  auto refused = [&](real dt, std::string const& what) {
+    Error stepError;
+    REQUIRE_FALSE(scene.scene->Step(dt, stepError));
+    CAPTURE(stepError.ToString());
+    REQUIRE(stepError.GetCode() == ErrorCode::InvalidArgument);
+    REQUIRE(stepError.GetMessage() == "Step: the 2 ranks of SceneParams.communicator disagree on " + what +
+                                          " (every rank must make the same calls with the same arguments: "
+                                          "docs/distributed.md); the scene is unchanged");
+    REQUIRE(Hash(scene.trackedPositions()) == Hash(before));
+    REQUIRE(scene.scene->GetTime() == time);
+  };
+  refused(Rank() == 0 ? kDt : 2 * kDt, "dt");
+  if (Rank() == 1) REQUIRE(scene.scene->SetSubstepParams({.maxSubsteps = 8}, error));
+  refused(kDt, "SceneParams.substeps.maxSubsteps");
+  if (Rank() == 0) REQUIRE(scene.scene->SetSubstepParams({.maxSubsteps = 8}, error));
+  Steps(*scene.scene, 1);  // agreeing again
+  REQUIRE(scene.scene->GetTime() == time + kDt);
+  REQUIRE(SameOnAllRanks(Hash(scene.trackedPositions())));
+}
+
+TEST_CASE("a Fortran handle that names no communicator is refused", "[mpi][refusal]") {
+  // it ran as one rank, silently
+  Error error;
+  REQUIRE(Communicator::World(error).GetSize() == 2);
+  SceneParams params;
+  params.communicator = Communicator::FromFortranHandle(12345);
+  REQUIRE_FALSE(Scene::Create(params, error));
+  CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+  CHECK(error.GetMessage() == "SceneParams.communicator has Fortran handle 12345, which is not a communicator of "
+                              "this process (MPI_Comm_f2c gives no valid communicator)");
+  CHECK(params.communicator.GetSize() == 1);
+  params.communicator = ToCommunicator(MPI_COMM_NULL);
+  REQUIRE_FALSE(Scene::Create(params, error));
+  CHECK(error.GetMessage().find("is not a communicator of this process") != std::string::npos);
+}
+
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   int const failed = Catch::Session().run(argc, argv);

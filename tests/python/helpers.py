@@ -1,10 +1,23 @@
 """Scene builders shared by the mochi test files (the Python twin of
-tests/test_scenes.h)."""
+tests/test_scenes.h), and `raises`."""
+import contextlib
 import math
 
 import numpy as np
+import pytest
 
 import mochi
+
+
+@contextlib.contextmanager
+def raises(code, *fragments):
+    """The block raises mochi.Error with `code` and a message containing every fragment."""
+    with pytest.raises(mochi.Error) as info:
+        yield info
+    e = info.value
+    assert e.code == code, str(e)
+    for fragment in fragments:
+        assert fragment in e.message, (fragment, e.message)
 
 
 def make_zoo(scene):

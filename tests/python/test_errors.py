@@ -1,7 +1,6 @@
 """Every error path raises mochi.Error with the library's code and a message
 naming the bad field (C++ field names, as the library writes them), and a
 failed call changes nothing."""
-import contextlib
 import math
 import os
 
@@ -9,21 +8,10 @@ import numpy as np
 import pytest
 
 import mochi
-from helpers import make_zoo, valid_params
+from helpers import make_zoo, raises, valid_params
 
 NAN = math.nan
 INF = math.inf
-
-
-@contextlib.contextmanager
-def raises(code, *fragments):
-    """The block raises mochi.Error with `code` and a message containing every fragment."""
-    with pytest.raises(mochi.Error) as info:
-        yield info
-    e = info.value
-    assert e.code == code, str(e)
-    for fragment in fragments:
-        assert fragment in e.message, (fragment, e.message)
 
 
 @pytest.fixture

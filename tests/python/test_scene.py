@@ -122,7 +122,7 @@ def test_a_failed_step_retries_itself_as_substeps_when_asked():
     with pytest.raises(mochi.Error) as info:
         on.set_substep_params(mochi.SubstepParams(max_substeps=3))
     assert info.value.code == mochi.ErrorCode.InvalidArgument
-    assert "SubstepParams.maxSubsteps must be a power of two >= 1" in info.value.message
+    assert "SubstepParams.maxSubsteps must be a power of two in [1, kMaxSubsteps = 4096]" in info.value.message
     with pytest.raises(mochi.Error, match="SceneParams.substeps.maxSubsteps .* got 0"):
         mochi.Scene.create(substeps=mochi.SubstepParams(max_substeps=0))
 
@@ -461,6 +461,17 @@ def test_threads_and_reused_factorizations():
     assert scene.get_num_threads() >= 1
     with pytest.raises(mochi.Error, match="numThreads"):
         scene.set_num_threads(-1)
+    # above kMaxThreads: refused, nothing changed (2**31 - 1 raised MemoryError
+    # and kept the count); 1000 at creation aborted under a 4 GB address limit
+    scene.set_num_threads(2)
+    before = beam.get_node_positions()
+    with pytest.raises(mochi.Error, match=r"numThreads must be in \[0, kMaxThreads = 256\].*got 2147483647"):
+        scene.set_num_threads(2**31 - 1)
+    assert scene.get_num_threads() == 2 and scene.get_params().num_threads == 2
+    assert np.array_equal(beam.get_node_positions(), before)
+    scene.step(1 / 60)
+    with pytest.raises(mochi.Error, match=r"SceneParams.numThreads must be in \[0, kMaxThreads = 256\].*got 1000"):
+        sagging_beam(num_threads=1000)
 
     # reused factorizations: fewer factorizations, full Newton's state within its tolerance
     stats = {}

@@ -571,6 +571,85 @@ TEST_CASE("Newton's first iterate extrapolated at the last acceleration converge
   CHECK(difference <= 1e-8);
 }
 
+TEST_CASE("a step after a much shorter one starts from the prediction", "[scene][articulated][tree]") {
+  // an arm (a revolute joint, then a spherical one) steps 0.01, 1e-15, 0.01:
+  // the 1e-15 step leaves round-off / 1e-15 in the joint velocity, and
+  // extrapolating it by h/hₚ = 1e13 failed the third step in 50 Newton
+  // iterations (also with sub-steps). The third step starts from the
+  // prediction, as with extrapolation off: the same iterations, the same
+  // state bit for bit
+  auto run = [](bool extrapolate, int maxSubsteps, DynamicArray<real>& positions) {
+    SceneParams params;
+    params.substeps.maxSubsteps = maxSubsteps;
+    auto scene = MakeScene(params);
+    Error error;
+    ArticulatedActorParams p;
+    p.links.resize(2);
+    p.links[0].parent = -1;
+    p.links[0].joint = JointType::Revolute;
+    p.links[0].axis = Real3(0, 0, 1);
+    p.links[0].parentToJointPosition = Real3(0, 4, 0);
+    p.links[0].centerOfMass = Real3(0.25, 0, 0);
+    p.links[1].parent = 0;
+    p.links[1].joint = JointType::Spherical;
+    p.links[1].parentToJointPosition = Real3(0.5, 0, 0);
+    p.links[1].centerOfMass = Real3(0.25, 0, 0);
+    p.extrapolateFirstIterate = extrapolate;
+    ArticulatedActor* arm = scene->CreateArticulatedActor(p, error);
+    REQUIRE(arm);
+    for (real dt : {0.01, 1e-15, 0.01}) {
+      INFO("dt " << dt << ": " << error.ToString());
+      REQUIRE(scene->Step(dt, error));
+    }
+    positions = arm->GetJointPositions();
+    return scene->GetStats().newtonIterations;
+  };
+  for (int maxSubsteps : {1, 8}) {
+    CAPTURE(maxSubsteps);
+    DynamicArray<real> extrapolated, predicted;
+    int const iterations = run(true, maxSubsteps, extrapolated);
+    CHECK(iterations == run(false, maxSubsteps, predicted));
+    CHECK(iterations <= 4);
+    CHECK(extrapolated == predicted);
+  }
+}
+
+TEST_CASE("a dense block above kDenseSolverMaxUnknowns is refused, on every path to it",
+          "[scene][articulated][errors]") {
+  // 1,700 spherical joints: 5,100 DoFs. ArticulatedBlockSolve::Dense ran for
+  // minutes per step (800 links: 3.1 s); it is refused at creation. On the
+  // tree, a constraint closing the chain's two ends (two joints reached: the
+  // dense block) is refused by the step, which changes nothing
+  constexpr int kLinks = 1700;
+  Error error;
+  auto scene = MakeScene();
+  REQUIRE_FALSE(scene->CreateArticulatedActor(HorizontalChain(kLinks, ArticulatedBlockSolve::Dense), error));
+  CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+  CHECK(error.GetMessage() ==
+        "ArticulatedActorParams.blockSolve = Dense takes at most kDenseSolverMaxUnknowns = 5000 DoFs (the dense "
+        "block is factorized in O(n³) every Newton iteration), got 5100 DoFs; use Tree");
+  CHECK(scene->GetNumActors() == 0);
+
+  auto treeScene = MakeScene();
+  ArticulatedActor* chain =
+      treeScene->CreateArticulatedActor(HorizontalChain(kLinks, ArticulatedBlockSolve::Tree), error);
+  REQUIRE(chain);
+  RigidSphericalJointConstraintParams close;
+  close.actorA = close.actorB = chain->GetHandle();
+  close.linkA = 0;
+  close.linkB = kLinks - 1;
+  close.stiffness = 1e3;
+  REQUIRE(treeScene->CreateRigidSphericalJointConstraint(close, error));
+  DynamicArray<real> const before = chain->GetJointPositions();
+  REQUIRE_FALSE(treeScene->Step(0.01, error));
+  CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+  CHECK(Contains(error.GetMessage(), "a dense block of 5100 DoFs (an articulated actor's, where it cannot solve on "
+                                     "its tree"));
+  CHECK(Contains(error.GetMessage(), "is above kDenseSolverMaxUnknowns = 5000 DoFs in the scene's matrix"));
+  CHECK(chain->GetJointPositions() == before);
+  CHECK(treeScene->GetTime() == 0);
+}
+
 TEST_CASE("a tree with no positive definite modification fails the step and changes nothing",
           "[scene][articulated][tree]") {
   // dt = 1e300: the inertia weight 1/dt² underflows to zero, and a horizontal

@@ -7,6 +7,7 @@
 #include "white_box.h"
 
 #include <cstring>
+#include <limits>
 
 #include <superdex/assembly/hessian_assembler.h>
 #include <superdex/core/parallel.h>
@@ -148,6 +149,30 @@ TEST_CASE("assembled Hessian and gradient of an actor are bit-identical for any 
     }
   });
   REQUIRE(checkedActors == 3);
+}
+
+TEST_CASE("a thread count outside [0, kMaxThreads] is refused, naming the field, and changes nothing",
+          "[scene][parallel][input]") {
+  // 1000 workers exhausted a 4 GB address space and aborted the process;
+  // 2^31 - 1 raised bad_alloc from the per-thread scratch and left the scene
+  // set to it (every later step failing)
+  for (int bad : {kMaxThreads + 1, 1000, std::numeric_limits<int>::max()}) {
+    CAPTURE(bad);
+    SceneParams params;
+    params.numThreads = bad;
+    Error error;
+    REQUIRE_FALSE(Scene::Create(params, error));
+    CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+    CHECK(error.GetMessage() == "SceneParams.numThreads must be in [0, kMaxThreads = 256] (0: every CPU), got " +
+                                    std::to_string(bad));
+    std::unique_ptr<Scene> scene = MakeMixedScene(2);
+    REQUIRE_FALSE(scene->SetNumThreads(bad, error));
+    CHECK(Contains(error.GetMessage(), "numThreads must be in [0, kMaxThreads = 256]"));
+    CHECK(scene->GetNumThreads() == 2);
+    CHECK(scene->GetParams().numThreads == 2);
+    INFO(error.ToString());
+    REQUIRE(scene->Step(0.01, error));
+  }
 }
 
 TEST_CASE("a negative thread count is refused, naming the field", "[scene][parallel][input]") {

@@ -366,18 +366,18 @@ TEST_CASE("BDF2 history restarts at each change of step size, within and after a
 
 TEST_CASE("sub-stepping params are validated", "[scene][substep][errors]") {
   Error error;
-  for (int bad : {0, -1, -4, 3, 6, 12, 1000}) {
+  for (int bad : {0, -1, -4, 3, 6, 12, 1000, 8192, 1 << 30}) {
     CAPTURE(bad);
     SceneParams params;
     params.substeps.maxSubsteps = bad;
     REQUIRE_FALSE(Scene::Create(params, error));
     REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
     std::string const expected =
-        "SceneParams.substeps.maxSubsteps must be a power of two >= 1 (1 turns sub-stepping off), "
-        "got " + std::to_string(bad);
+        "SceneParams.substeps.maxSubsteps must be a power of two in [1, kMaxSubsteps = 4096] (1 turns "
+        "sub-stepping off), got " + std::to_string(bad);
     REQUIRE(error.GetMessage() == expected);
   }
-  for (int good : {1, 2, 4, 1024, 1 << 30}) {
+  for (int good : {1, 2, 4, 1024, kMaxSubsteps}) {
     CAPTURE(good);
     SceneParams params;
     params.substeps.maxSubsteps = good;
@@ -388,9 +388,29 @@ TEST_CASE("sub-stepping params are validated", "[scene][substep][errors]") {
   auto scene = MakeScene();
   REQUIRE_FALSE(scene->SetSubstepParams({.maxSubsteps = 5}, error));
   REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
-  REQUIRE(Contains(error.GetMessage(), "SubstepParams.maxSubsteps must be a power of two"));
+  REQUIRE(Contains(error.GetMessage(), "SubstepParams.maxSubsteps must be a power of two in [1, kMaxSubsteps"));
   REQUIRE(Contains(error.GetMessage(), "got 5"));
   REQUIRE(scene->GetParams().substeps.maxSubsteps == 1);
   REQUIRE(scene->SetSubstepParams({.maxSubsteps = 4}, error));
   REQUIRE(scene->GetParams().substeps.maxSubsteps == 4);
+}
+
+TEST_CASE("a step failing every attempt up to kMaxSubsteps reports them all and changes nothing",
+          "[scene][substep][errors]") {
+  // a rigid body at 1e300 m/s overflows in every attempt; listing the
+  // attempts up to 2^30 overflowed an int in the message's loop (bad_alloc
+  // after ~25 s). At the limit, 13 attempts are made and listed
+  SceneParams params;
+  params.substeps.maxSubsteps = kMaxSubsteps;
+  auto scene = MakeScene(params);
+  Error error;
+  RigidActorParams body;
+  body.linearVelocity = Real3(1e300, 0, 0);
+  REQUIRE(scene->CreateRigidActor(body, error));
+  std::string const before = Capture(*scene);
+  REQUIRE_FALSE(scene->Step(0.01, error));
+  INFO(error.ToString());
+  CHECK(Contains(error.GetMessage(), "the last of the attempts as 1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, "
+                                     "2048 and 4096"));
+  CHECK(Capture(*scene) == before);
 }

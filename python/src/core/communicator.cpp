@@ -21,9 +21,19 @@ void DefineCommunicator(py::module_& m) {
           "MPI_COMM_WORLD: the R ranks of `mpirun -n R`, or one rank without mpirun. Starts MPI "
           "(through PETSc) when nothing has; raises mochi.Error (BackendError) when MPI cannot "
           "start.")
-      .def_static("from_fortran_handle", &Communicator::FromFortranHandle, py::arg("handle"),
-                  "the communicator with this Fortran handle (MPI_Comm_c2f; with mpi4py, "
-                  "comm.py2f()). The program keeps the communicator valid while scenes use it.")
+      .def_static(
+          "from_fortran_handle",
+          [](int handle) {
+            return Checked([&](Error& error) {
+              Communicator const communicator = Communicator::FromFortranHandle(handle);
+              communicator.Check("Communicator.from_fortran_handle(" + std::to_string(handle) + ")", error);
+              return communicator;
+            });
+          },
+          py::arg("handle"),
+          "the communicator with this Fortran handle (MPI_Comm_c2f; with mpi4py, comm.py2f()). "
+          "Raises mochi.Error where MPI is not running or the handle names no communicator. The "
+          "program keeps the communicator valid while scenes use it.")
       .def("is_set", &Communicator::IsSet, "False for the one-process default")
       .def("get_fortran_handle", &Communicator::GetFortranHandle)
       .def("get_size", &Communicator::GetSize, "MPI_Comm_size (1 for the one-process default)")

@@ -69,8 +69,15 @@ void DefineLinearSolver(py::module_& m) {
            "The preconditioners compiled into this build (BoomerAmg only with hypre).")
       .def("available_linear_solvers", &AvailableLinearSolvers,
            "The backends compiled into this build (Auto not included).")
-      .def("resolve_linear_solver_type", &ResolveLinearSolverType, py::arg("requested"),
-           py::arg("size"), "The backend Auto resolves to for a system of `size` unknowns.");
+      .def(
+          "resolve_linear_solver_type",
+          [](LinearSolverType requested, int size) {
+            return Checked([&](Error& error) { return ResolveLinearSolverType(requested, size, error); });
+          },
+          py::arg("requested"), py::arg("size"),
+          "The backend `requested` resolves to for a system of `size` unknowns (Auto: Dense up to "
+          "DENSE_SOLVER_MAX_SIZE, Cholmod above); raises mochi.Error for a negative size or a value "
+          "that is not a LinearSolverType.");
   m.attr("DENSE_SOLVER_MAX_SIZE") = kDenseSolverMaxSize;
   m.attr("DENSE_SOLVER_MAX_UNKNOWNS") = kDenseSolverMaxUnknowns;
 

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -65,12 +66,34 @@ struct FieldTraits {
         parent);
   }
   static F Load(py::handle value, std::string const& field) {
+    // None is no value of any field (pybind11 would read it as False for a
+    // bool, flipping a default that is on)
+    if (value.is_none()) Refuse(value, field, Describe());
+    if constexpr (std::is_same_v<F, bool>) {
+      // a bool (Python's or numpy's) only: not 0/1, not a str
+      if (!py::isinstance<py::bool_>(value) && std::string(py::str(py::type::of(value).attr("__name__"))) != "bool_")
+        Refuse(value, field, Describe());
+    } else if constexpr (std::is_integral_v<F> && sizeof(F) <= 4) {
+      // an integer out of range is one: say what the range is
+      if (PyLong_Check(value.ptr())) {
+        int overflow = 0;
+        long long const v = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
+        if (overflow != 0 || v < static_cast<long long>(std::numeric_limits<F>::min()) ||
+            v > static_cast<long long>(std::numeric_limits<F>::max()))
+          Refuse(value, field, "an integer in [" + std::to_string(std::numeric_limits<F>::min()) + ", " +
+                 std::to_string(std::numeric_limits<F>::max()) + "]");
+      }
+    }
     try {
       return value.cast<F>();
     } catch (py::cast_error const&) {
-      Raise(ErrorCode::InvalidArgument,
-            field + " must be " + Describe() + ", got " + std::string(py::repr(value)));
+      Refuse(value, field, Describe());
+    } catch (py::reference_cast_error const&) {
+      Refuse(value, field, Describe());
     }
+  }
+  [[noreturn]] static void Refuse(py::handle value, std::string const& field, std::string const& expected) {
+    Raise(ErrorCode::InvalidArgument, field + " must be " + expected + ", got " + std::string(py::repr(value)));
   }
 };
 
