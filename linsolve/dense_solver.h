@@ -31,7 +31,7 @@ class DenseCholeskySolver final : public LinearSolver {
  protected:
   /// Allocates the n x n matrix. Never fails once the base checks passed.
   LinearSolveResult DoAnalyze(SparseSymmetricMatrix const& a) override;
-  /// Copies A and factors it; kNotPositiveDefinite with the first column
+  /// Copies A and factors it; NotPositiveDefinite with the first column
   /// whose pivot is <= 0 or not finite.
   LinearSolveResult DoFactorize(SparseSymmetricMatrix const& a) override;
   /// x = A^{-1} b with the factor of the last Factorize.

@@ -7,7 +7,7 @@
 //
 // Out-of-order calls (Factorize before Analyze, Factorize with a matrix whose
 // pattern version differs from the analyzed one, Solve before Factorize) are
-// reported as kInvalidState, never undefined behaviour. Every call returns
+// reported as InvalidState, never undefined behaviour. Every call returns
 // one typed result; failure is never signalled with NaN.
 //
 // The matrix passed to Analyze is already fill-reducing ordered by the
@@ -98,8 +98,8 @@ struct PcgParams {
 };
 
 /// Checks every field of `params`; returns false and names the field and
-/// value in `error` (kInvalidArgument) when one is out of range, and
-/// kNotSupported when the preconditioner is not in this build. Non-empty
+/// value in `error` (InvalidArgument) when one is out of range, and
+/// NotSupported when the preconditioner is not in this build. Non-empty
 /// `options` are tried in one set-up on a small system (this starts PETSc):
 /// an option PETSc does not use, or whose value it cannot read, is refused
 /// here rather than at the next step.
@@ -108,7 +108,7 @@ bool ValidatePcgParams(PcgParams const& params, Error& error);
 /// The preconditioners compiled into this build (BoomerAmg only with hypre).
 DynamicArray<PcgPreconditioner> AvailablePcgPreconditioners();
 
-/// Largest system size for which kAuto picks the dense backend. Taken from the
+/// Largest system size for which Auto picks the dense backend. Taken from the
 /// measurement in docs/linear_solvers.md (perf/dense_vs_sparse): on rigid-body
 /// chains dense Factorize+Solve is not slower than CHOLMOD up to 96 unknowns
 /// (16 bodies) and slower from 102 on.
@@ -135,15 +135,15 @@ std::string_view ToString(LinearSolveStatus status);
 
 struct LinearSolveResult {
   LinearSolveStatus status = LinearSolveStatus::Ok;
-  int failingColumn = -1;      ///< kNotPositiveDefinite: column in the matrix's (given) order
+  int failingColumn = -1;      ///< NotPositiveDefinite: column in the matrix's (given) order
   int iterations = 0;          ///< iterative backends; 0 for direct ones
   real relativeResidual = 0;   ///< ‖Ax − b‖/‖b‖ when the backend computes it, else 0
-  /// kNotConverged at the iteration cap (nothing else went wrong): x holds
+  /// NotConverged at the iteration cap (nothing else went wrong): x holds
   /// the last iterate, finite, which Newton may take as an inexact step
   bool truncated = false;
   /// ApplyPreconditioner: the factor was applied in reduced precision
   bool reducedPrecision = false;
-  std::string reason;          ///< human-readable cause when status != kOk
+  std::string reason;          ///< human-readable cause when status != Ok
 
   bool Ok() const { return status == LinearSolveStatus::Ok; }
 };
@@ -155,23 +155,23 @@ class LinearSolver {
   /// Symbolic analysis of A's pattern (A.values is not read). Required before
   /// the first Factorize and after every change of A.patternVersion; discards
   /// any previous analysis and factorization, also when it fails.
-  /// Returns kInvalidInput if the pattern breaks the layout of
-  /// sparse_symmetric_matrix.h (naming the entry), kBackendError if the
+  /// Returns InvalidInput if the pattern breaks the layout of
+  /// sparse_symmetric_matrix.h (naming the entry), BackendError if the
   /// backend fails.
   LinearSolveResult Analyze(SparseSymmetricMatrix const& a);
   /// Numeric factorization of A's current values. SuperDex allocates nothing
   /// here (CHOLMOD itself allocates a few temporaries per call).
-  /// Returns kInvalidState before a successful Analyze, or if A.patternVersion
+  /// Returns InvalidState before a successful Analyze, or if A.patternVersion
   /// (or size or nonzero count) differs from the analyzed pattern;
-  /// kInvalidInput if A.values has the wrong length or a non-finite entry;
-  /// kNotPositiveDefinite with `failingColumn` (in A's order) if A is not
+  /// InvalidInput if A.values has the wrong length or a non-finite entry;
+  /// NotPositiveDefinite with `failingColumn` (in A's order) if A is not
   /// positive definite. A failed Factorize leaves no usable factor.
   LinearSolveResult Factorize(SparseSymmetricMatrix const& a);
   /// Solves A x = b with the last successful factorization; any number of
   /// times per Factorize. Does not allocate (CHOLMOD: after the first Solve
-  /// following an Analyze). Returns kInvalidState without a successful
-  /// Factorize since the last Analyze; kInvalidInput if b or x does not have
-  /// A.size entries, b and x overlap, or b is not finite; kBackendError if
+  /// following an Analyze). Returns InvalidState without a successful
+  /// Factorize since the last Analyze; InvalidInput if b or x does not have
+  /// A.size entries, b and x overlap, or b is not finite; BackendError if
   /// the solution overflows.
   LinearSolveResult Solve(Span<real const> b, Span<real> x);
   /// Solve that starts from x instead of zero: iterative backends continue
@@ -265,7 +265,7 @@ class LinearSolver {
   std::uint64_t analyzedVersion_ = 0;
 };
 
-/// The backends compiled into this build (kAuto not included).
+/// The backends compiled into this build (Auto not included).
 DynamicArray<LinearSolverType> AvailableLinearSolvers();
 
 /// The backend `requested` resolves to for a system of `size` unknowns:
@@ -274,10 +274,10 @@ DynamicArray<LinearSolverType> AvailableLinearSolvers();
 /// LinearSolverType or a negative size.
 LinearSolverType ResolveLinearSolverType(LinearSolverType requested, int size, Error& error);
 
-/// A new solver of a concrete type (not kAuto); `pcg` configures the PETSc
+/// A new solver of a concrete type (not Auto); `pcg` configures the PETSc
 /// backend (and is ignored by the others). Returns nullptr and sets `error`
-/// (kInvalidArgument for kAuto, a value outside the enum or invalid `pcg`,
-/// kNotSupported when the type is not compiled in, kBackendError when PETSc
+/// (InvalidArgument for Auto, a value outside the enum or invalid `pcg`,
+/// NotSupported when the type is not compiled in, BackendError when PETSc
 /// cannot be initialized).
 std::unique_ptr<LinearSolver> CreateLinearSolver(LinearSolverType type, PcgParams const& pcg,
                                                  Error& error);

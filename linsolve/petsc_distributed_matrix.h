@@ -61,9 +61,9 @@ class PetscDistributedMatrix {
 
   /// Collective, once per pattern: discards the previous objects and builds
   /// the matrix of A's pattern on `distribution`'s ranks, its vectors and the
-  /// gather. The values are zero until SetValues. Returns kInvalidInput on
+  /// gather. The values are zero until SetValues. Returns InvalidInput on
   /// every rank when some rank's range is not within [0, n) or the ranges are
-  /// not contiguous in rank order, kBackendError when PETSc fails.
+  /// not contiguous in rank order, BackendError when PETSc fails.
   LinearSolveResult Create(SparseSymmetricMatrix const& a, RowDistribution const& distribution);
   /// Collective: the owned rows' values of A (the analyzed pattern) into the
   /// matrix, in place (MatSetValuesCOO). Allocates nothing.
@@ -110,7 +110,7 @@ class PetscDistributedMatrix {
 LinearSolveResult AgreeOnResult(Communicator const& communicator, LinearSolveResult local);
 
 /// Collective: AgreeOnResult of a PETSc call's error code (`code`, a
-/// PetscErrorCode): kBackendError "PETSc <call> failed: <PETSc's message>"
+/// PetscErrorCode): BackendError "PETSc <call> failed: <PETSc's message>"
 /// on every rank when it failed on some rank, else Ok.
 LinearSolveResult AgreeOnPetscCall(Communicator const& communicator, int code, std::string const& call);
 

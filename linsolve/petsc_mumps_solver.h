@@ -17,7 +17,7 @@
 // the Newton Hessian may be indefinite with exact element Hessians, and a
 // factorization that assumes SPD (SYM = 1) would not say so. The inertia of
 // the factor (MatGetInertia: negative pivots, INFOG(12); null pivots,
-// ICNTL(24) = 1) decides: any negative or null pivot is kNotPositiveDefinite,
+// ICNTL(24) = 1) decides: any negative or null pivot is NotPositiveDefinite,
 // as CHOLMOD's failed Cholesky is — without a failing column (-1), which
 // pivoting leaves undefined.
 //

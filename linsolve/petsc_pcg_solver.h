@@ -13,7 +13,7 @@
 // Convergence: ‖b − A x‖₂ <= max(rtol ‖b‖₂, atol) on the UNPRECONDITIONED
 // residual (KSP_NORM_UNPRECONDITIONED), so the tolerance means the same for
 // every preconditioner. Non-convergence (iteration cap, indefinite matrix or
-// preconditioner, preconditioner set-up failure) is kNotConverged with
+// preconditioner, preconditioner set-up failure) is NotConverged with
 // PETSc's reason (KSPConvergedReasons, PCFailedReasons), the iteration count
 // and the relative residual.
 //
@@ -27,7 +27,7 @@
 // 0.5, hypre's recommendation for 3-D). PcgParams::options are inserted into
 // PETSc's options database under this solver's own prefix and applied last;
 // an option PETSc did not use by the first set-up is reported as
-// kInvalidInput.
+// InvalidInput.
 //
 // Across R > 1 ranks (SetDistribution; docs/linear_solvers.md "Across MPI
 // ranks"): the matrix is the MPIAIJ of the owned rows (PetscDistributedMatrix:
@@ -40,7 +40,7 @@
 // BoomerAMG run as PETSc runs them in parallel; block Jacobi is the same IC(k)
 // shell applied by each rank to its own rows (the diagonal block of the
 // owned rows, in that rank's share of max(blockJacobiBlocks, R) groups);
-// Icc, IC of the whole matrix, is refused (kInvalidInput). A failure known
+// Icc, IC of the whole matrix, is refused (InvalidInput). A failure known
 // to one rank (IC factor, preconditioner set-up, a PETSc error in the solve)
 // is reported by every rank. GetDescription ends in "on R ranks".
 //

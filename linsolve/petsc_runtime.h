@@ -25,7 +25,7 @@
 namespace superdex::internal {
 
 /// Initializes PETSc on the first call (thread-safe); later calls return the
-/// first call's outcome. Returns false with kBackendError naming PETSc's
+/// first call's outcome. Returns false with BackendError naming PETSc's
 /// message when initialization failed.
 bool EnsurePetscInitialized(Error& error);
 
@@ -41,7 +41,7 @@ LinearSolveResult SolveFailure(LinearSolveStatus status, std::string reason);
 }  // namespace superdex::internal
 
 /// In the PETSc backends' .cc files (PETSc's headers included): returns a
-/// kBackendError result naming the PETSc call when it fails.
+/// BackendError result naming the PETSc call when it fails.
 #define SUPERDEX_PETSC(call)                                                                   \
   do {                                                                                         \
     if (PetscErrorCode const code_ = (call); code_ != 0)                                       \

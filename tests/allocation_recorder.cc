@@ -1,5 +1,8 @@
 #include "allocation_recorder.h"
 
+#include <cstdio>
+#include <cstdlib>
+
 #include <dlfcn.h>
 
 #include <atomic>
@@ -91,9 +94,18 @@ Allocations CountAllocations(std::function<void()> const& call) {
   REQUIRE(counts.total <= kMaxRecorded);
   Dl_info library;
   REQUIRE(dladdr(reinterpret_cast<void*>(&AvailableLinearSolvers), &library) != 0);
+  // SUPERDEX_ALLOCATION_TRACE=1 prints where SuperDex's own allocations
+  // come from (the nearest exported symbol and the offset into it)
+  bool const trace = std::getenv("SUPERDEX_ALLOCATION_TRACE") != nullptr;
   for (int i = 0; i < counts.total; ++i) {
     Dl_info info;
-    if (dladdr(gCallers[i], &info) != 0 && info.dli_fbase == library.dli_fbase) ++counts.superdex;
+    if (dladdr(gCallers[i], &info) != 0 && info.dli_fbase == library.dli_fbase) {
+      ++counts.superdex;
+      if (trace)
+        std::fprintf(stderr, "allocation from %s+0x%lx\n", info.dli_sname ? info.dli_sname : "?",
+                     static_cast<unsigned long>(static_cast<char*>(gCallers[i]) -
+                                                static_cast<char*>(info.dli_saddr)));
+    }
   }
   return counts;
 }

@@ -24,8 +24,13 @@ namespace {
 constexpr real kNaN = std::numeric_limits<real>::quiet_NaN();
 constexpr real kInf = std::numeric_limits<real>::infinity();
 
+/// A test input: in tests/actors/data, or (the Gmsh and OBJ files the
+/// fuzzers also start from, kept once) in tests/fuzz/corpus/gmsh or obj.
 std::string Data(std::string const& name) {
-  return std::string(SUPERDEX_TEST_DATA_DIR) + "/" + name;
+  std::string const here = std::string(SUPERDEX_TEST_DATA_DIR) + "/" + name;
+  if (std::filesystem::exists(here)) return here;
+  std::string const corpus = name.ends_with(".msh") ? "gmsh" : name.ends_with(".obj") ? "obj" : "";
+  return corpus.empty() ? here : std::string(SUPERDEX_FUZZ_CORPUS_DIR) + "/" + corpus + "/" + name;
 }
 
 bool Same(TetMesh const& a, TetMesh const& b) {

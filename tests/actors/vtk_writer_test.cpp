@@ -266,47 +266,48 @@ TEST_CASE("WriteVtu rejects bad input, writes nothing and keeps an earlier file"
   REQUIRE(WriteVtu(path, points, tets, triangles, data, error));
   std::string const before = ReadText(path);
 
-  std::string expected;
+  // each case's input is refused with its message, and the file stays
+  // as it was (checked inside each SECTION: a section checks what it sets up)
+  auto const refused = [&](std::string const& expected) {
+    REQUIRE_FALSE(WriteVtu(path, points, tets, triangles, data, cellData, error));
+    REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
+    CAPTURE(error.GetMessage());
+    REQUIRE(Mentions(error, expected));
+    REQUIRE(ReadText(path) == before);
+    REQUIRE_FALSE(fs::exists(path + ".tmp"));
+  };
   SECTION("tet index out of range") {
     tets[0][3] = 4;
-    expected = "tetrahedra[0][3] = 4 is out of range [0, 4)";
+    refused("tetrahedra[0][3] = 4 is out of range [0, 4)");
   }
   SECTION("triangle index negative") {
     triangles[0][1] = -1;
-    expected = "triangles[0][1] = -1 is out of range";
+    refused("triangles[0][1] = -1 is out of range");
   }
   SECTION("non-finite point") {
     points[2].z() = std::numeric_limits<real>::infinity();
-    expected = "points[2] must be finite";
+    refused("points[2] must be finite");
   }
   SECTION("wrong data size") {
     data[0].components = 3;
-    expected =
-        "pointData[0] ('speed').values has 4 entries, expected components · points = 3 · 4 = 12";
+    refused("pointData[0] ('speed').values has 4 entries, expected components · points = 3 · 4 = 12");
   }
   SECTION("non-finite data") {
     data[0].values[1] = std::numeric_limits<real>::quiet_NaN();
-    expected = "pointData[0] ('speed').values[1] must be finite";
+    refused("pointData[0] ('speed').values[1] must be finite");
   }
   SECTION("repeated name") {
     data.push_back({"speed", 1, {0, 0, 0, 0}});
-    expected = "pointData[1].name 'speed' is used by an earlier array";
+    refused("pointData[1].name 'speed' is used by an earlier array");
   }
   SECTION("empty name") {
     data[0].name.clear();
-    expected = "pointData[0].name must not be empty";
+    refused("pointData[0].name must not be empty");
   }
   SECTION("cell data size") {
     cellData.push_back({"volume", 1, {1}});
-    expected =
-        "cellData[0] ('volume').values has 1 entries, expected components · cells = 1 · 2 = 2";
+    refused("cellData[0] ('volume').values has 1 entries, expected components · cells = 1 · 2 = 2");
   }
-  REQUIRE_FALSE(WriteVtu(path, points, tets, triangles, data, cellData, error));
-  REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
-  CAPTURE(error.GetMessage());
-  REQUIRE(Mentions(error, expected));
-  REQUIRE(ReadText(path) == before);
-  REQUIRE_FALSE(fs::exists(path + ".tmp"));
 }
 
 TEST_CASE("WriteVtu into a missing folder is an I/O error naming the file",

@@ -54,5 +54,8 @@ TEST_CASE("METIS ordering beats the natural ordering on a 1000-body lattice", "[
   std::cout << "lattice " << n << "^3 bodies: nnz(L) METIS = " << metis
             << ", natural = " << natural << " (ratio " << natural / metis << ")\n";
   REQUIRE(metis > 0);
-  REQUIRE(metis < natural);
+  // measured ratio 2.94 (nested dissection of a 3D lattice against its
+  // lexicographic order); a METIS ordering no better than 2x would be a
+  // broken ordering, not a slightly worse one
+  REQUIRE(natural >= 2 * metis);
 }

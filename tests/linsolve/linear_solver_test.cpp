@@ -217,7 +217,7 @@ TEST_CASE("one analysis serves many factorizations", "[linsolve][reuse]") {
   }
 }
 
-TEST_CASE("calls out of order are refused with kInvalidState", "[linsolve][state]") {
+TEST_CASE("calls out of order are refused with InvalidState", "[linsolve][state]") {
   Backend const backend = GENERATE(from_range(AllBackends()));
   CAPTURE(backend.Name());
   std::unique_ptr<LinearSolver> solver = MakeSolver(backend);
@@ -289,7 +289,7 @@ TEST_CASE("calls out of order are refused with kInvalidState", "[linsolve][state
   }
 }
 
-TEST_CASE("bad input is refused with kInvalidInput", "[linsolve][input]") {
+TEST_CASE("bad input is refused with InvalidInput", "[linsolve][input]") {
   Backend const backend = GENERATE(from_range(AllBackends()));
   CAPTURE(backend.Name());
   std::unique_ptr<LinearSolver> solver = MakeSolver(backend);
@@ -425,7 +425,7 @@ TEST_CASE("the factory lists, resolves and creates backends", "[linsolve][factor
   // Debian's PETSc has MUMPS; a build whose PETSc lacks it leaves it out
   REQUIRE(has(LinearSolverType::PetscMumps) == (SUPERDEX_HAS_PETSC != 0));
 
-  SECTION("kAuto picks dense up to kDenseSolverMaxSize") {
+  SECTION("Auto picks dense up to kDenseSolverMaxSize") {
     Error error;
     REQUIRE(kDenseSolverMaxSize > 0);
     REQUIRE(ResolveLinearSolverType(LinearSolverType::Auto, 1, error) == LinearSolverType::Dense);
@@ -451,7 +451,7 @@ TEST_CASE("the factory lists, resolves and creates backends", "[linsolve][factor
     REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);
     REQUIRE(error.GetMessage() == "ResolveLinearSolverType: requested is not a LinearSolverType (99)");
   }
-  SECTION("kAuto and unknown values are not creatable") {
+  SECTION("Auto and unknown values are not creatable") {
     Error error;
     REQUIRE(CreateLinearSolver(LinearSolverType::Auto, error) == nullptr);
     REQUIRE(error.GetCode() == ErrorCode::InvalidArgument);

@@ -2,6 +2,8 @@
 // with PETSc's reason, object reuse across factorizations, the relative
 // tolerance, the preconditioner lag, option pass-through and its errors, and
 // the parameter checks.
+#include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <vector>
@@ -323,14 +325,24 @@ TEST_CASE("PETSc options pass through, scoped to the solver", "[linsolve][pcg][o
     REQUIRE(other->Solve(View(b), View(x)).Ok());
   }
   SECTION("an option for the preconditioner") {
-    PcgParams params = WithPreconditioner(PcgPreconditioner::Gamg);
-    params.options = "-pc_gamg_threshold 0.02 -pc_gamg_agg_nsmooths 1";
-    auto solver = MakePcg(params);
-    REQUIRE(solver->Analyze(a).Ok());
-    LinearSolveResult const result = solver->Factorize(a);
-    CAPTURE(result.reason);
-    REQUIRE(result.Ok());
-    REQUIRE(solver->Solve(View(b), View(x)).Ok());
+    // it reaches GAMG: unsmoothed aggregation changes the CG iterations
+    auto iterations = [&](std::string const& options) {
+      PcgParams params = WithPreconditioner(PcgPreconditioner::Gamg);
+      params.options = options;
+      auto solver = MakePcg(params);
+      REQUIRE(solver->Analyze(a).Ok());
+      LinearSolveResult const setUp = solver->Factorize(a);
+      CAPTURE(setUp.reason);
+      REQUIRE(setUp.Ok());
+      LinearSolveResult const result = solver->Solve(View(b), View(x));
+      REQUIRE(result.Ok());
+      REQUIRE(RelativeResidual(a, x, b) <= 1e-6);
+      return result.iterations;
+    };
+    int const defaults = iterations("");
+    int const unsmoothed = iterations("-pc_gamg_threshold 0.02 -pc_gamg_agg_nsmooths 0");
+    CAPTURE(defaults, unsmoothed);
+    REQUIRE(unsmoothed != defaults);
   }
   SECTION("an option PETSc does not use is an error naming it, where the params are given") {
     PcgParams params = WithPreconditioner(PcgPreconditioner::Jacobi);
@@ -408,6 +420,19 @@ TEST_CASE("PcgParams are checked field by field", "[linsolve][pcg][input]") {
   p = {};
   p.options = "-ksp_max_it 4 5";
   requireInvalid(p, "options");
+}
+
+TEST_CASE("hypre's BoomerAMG is in the build, as the README says", "[linsolve][pcg][hypre]") {
+  // the loops over AvailablePcgPreconditioners() would drop BoomerAmg
+  // silently where PETSc lacks hypre; Debian's PETSc has it, and the README
+  // advertises it. A build against a PETSc without hypre sets
+  // SUPERDEX_WITHOUT_HYPRE=1 to say so
+  char const* without = std::getenv("SUPERDEX_WITHOUT_HYPRE");
+  bool const expected = !(without && std::string(without) == "1");
+  DynamicArray<PcgPreconditioner> const available = AvailablePcgPreconditioners();
+  bool const present = std::find(available.begin(), available.end(), PcgPreconditioner::BoomerAmg) != available.end();
+  CAPTURE(expected);
+  REQUIRE(present == expected);
 }
 
 }  // namespace

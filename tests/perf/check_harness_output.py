@@ -57,7 +57,9 @@ def main():
         if not any(r["study"] == "scaling" and r["family"] == family for r in rows):
             fail(f"no scaling row of family '{family}'")
     for r in rows:
-        if r["study"] not in ("stability", "long_run") and r["status"] != "ok":
+        # (stability maps chart where methods fail; every other run must succeed,
+        # the 3-s long runs included)
+        if r["study"] != "stability" and r["status"] != "ok":
             fail(f"run failed: {r['family']} {r['size']} {r['method']}: {r['reason']}")
         if r["status"] == "ok" and not float(r["wall_per_step_s"]) > 0:
             fail(f"run without a time: {r}")

@@ -236,9 +236,11 @@ TEST_CASE("steps with constraints on articulated links allocate nothing", "[scen
   // dense block, each constraint's J and curvature mapped onto the 120 path
   // DoFs (projected: see above for CHOLMOD's message on an indefinite first
   // iteration)
-  ArticulatedBlockSolve const solve = GENERATE(ArticulatedBlockSolve::Tree, ArticulatedBlockSolve::Dense);
-  HessianProjection const projection = GENERATE(HessianProjection::WhenIndefinite, HessianProjection::Always);
-  if (solve == ArticulatedBlockSolve::Dense && projection != HessianProjection::Always) return;
+  // (the dense block only with projected Hessians)
+  auto const [solve, projection] = GENERATE(table<ArticulatedBlockSolve, HessianProjection>(
+      {{ArticulatedBlockSolve::Tree, HessianProjection::WhenIndefinite},
+       {ArticulatedBlockSolve::Tree, HessianProjection::Always},
+       {ArticulatedBlockSolve::Dense, HessianProjection::Always}}));
   CAPTURE(static_cast<int>(solve), static_cast<int>(projection));
   SceneParams params;
   params.integrator = IntegratorType::Bdf2;

@@ -115,7 +115,10 @@ TEST_CASE("an affine boundary displacement is reproduced inside with the materia
               internal::Format(measured).c_str(), internal::Format(expected).c_str());
   CAPTURE(measured.transpose(), expected.transpose());
   REQUIRE(expected.norm() > 1);
-  REQUIRE((measured - expected).norm() <= 0.01 * expected.norm());
+  // measured 6e-7 relative for both models: the pins' compliance (a face
+  // node's ~50 N over k = 1e10 N/m moves it 5e-9 m off the affine field,
+  // 7e-8 of an element's 0.067 m), hence 2e-6 (it was 1e-2)
+  REQUIRE((measured - expected).norm() <= 2e-6 * expected.norm());
 }
 
 TEST_CASE("a soft block hanging from a held rigid handle: the attachments carry its weight",

@@ -191,5 +191,10 @@ TEST_CASE("a scene without actors steps: time advances (found by fuzz_scene_api)
   body.linearVelocity = Real3(1, 0, 0);
   RigidActor* moving = MakeRigid(*chain.scene, body);
   StepOk(*chain.scene, 1e-3);
+  std::unique_ptr<Scene> fresh = MakeScene();
+  RigidActor* reference = MakeRigid(*fresh, body);
+  StepOk(*fresh, 1e-3);
   REQUIRE(moving->GetPosition().x() > 0);
+  REQUIRE(moving->GetPosition() == reference->GetPosition());
+  REQUIRE(moving->GetLinearVelocity() == reference->GetLinearVelocity());
 }

@@ -124,7 +124,7 @@ TEST_CASE("the effective stiffness matches the hand computation", "[scene][near-
     REQUIRE(ConstraintTestAccess::BeginStage(*p.pin, h, beta, span, ws));
     real const expected = CapOf(beta, h, kPivotW);
     CAPTURE(expected);
-    CHECK(Near(p.pin->GetEffectiveStiffness(), expected, 1e-13 * expected));
+    CHECK(Near(p.pin->GetEffectiveStiffness(), expected, 1e-13));
     CHECK(p.pin->GetEffectiveDamping() == 0);
     CHECK(p.pin->GetStiffness() == 1e12);  // the definition is untouched
     // a stiffness below the cap is left exactly as it is
@@ -149,10 +149,10 @@ TEST_CASE("the effective stiffness matches the hand computation", "[scene][near-
     Span<real const> const span(inverse.data(), inverse.size());
     real const mass = box->GetNodeMass(node);
     REQUIRE(mass > 0);
-    CHECK(Near(ConstraintTestAccess::InverseEffectiveMass(*c, span, ws), 1 / mass, 1e-14 / mass));
+    CHECK(Near(ConstraintTestAccess::InverseEffectiveMass(*c, span, ws), 1 / mass, 1e-14));
     REQUIRE(ConstraintTestAccess::BeginStage(*c, h, beta, span, ws));
     real const expected = kTwoPiSquared * mass / (beta * beta * h * h);
-    CHECK(Near(c->GetEffectiveStiffness(), expected, 1e-13 * expected));
+    CHECK(Near(c->GetEffectiveStiffness(), expected, 1e-13));
   }
 
   SECTION("damping is scaled with the stiffness, and the force cap k ḡ is kept") {
@@ -165,10 +165,9 @@ TEST_CASE("the effective stiffness matches the hand computation", "[scene][near-
     internal::CompliantParams const result = internal::NearRigidParams(params, h, beta, w, capped);
     REQUIRE(capped);
     real const bound = CapOf(beta, h, w);
-    CHECK(Near(result.stiffness + result.damping / h, bound, 1e-13 * bound));
+    CHECK(Near(result.stiffness + result.damping / h, bound, 1e-13));
     CHECK(Near(result.damping / result.stiffness, params.damping / params.stiffness, 1e-15));
-    CHECK(Near(result.stiffness * result.saturation, params.stiffness * params.saturation,
-               1e-13 * params.stiffness * params.saturation));
+    CHECK(Near(result.stiffness * result.saturation, params.stiffness * params.saturation, 1e-13));
     // β <= 0 or w <= 0 leave everything as it is
     for (auto [b, ww] : {std::pair<real, real>{0, w}, {-1, w}, {beta, 0}}) {
       internal::CompliantParams const same = internal::NearRigidParams(params, h, b, ww, capped);
@@ -230,7 +229,7 @@ TEST_CASE("a pendulum pinned at k = 1e12 under the cap swings like one pinned at
     StepOk(*soft.scene, kDt);
     REQUIRE(stiff.scene->GetStats().nearRigidConstraints == 1);
     REQUIRE(soft.scene->GetStats().nearRigidConstraints == 0);
-    REQUIRE(Near(stiff.pin->GetEffectiveStiffness(), kEff, 1e-12 * kEff));
+    REQUIRE(Near(stiff.pin->GetEffectiveStiffness(), kEff, 1e-12));
   }
   CHECK(soft.pin->GetEffectiveStiffness() == kEff);
   // the same trajectory: positions to 1e-12 m, the swing visibly under way
@@ -265,9 +264,11 @@ TEST_CASE("Jacobi-preconditioned CG needs fewer iterations on a stiff chain with
   int const with = iterations(1);
   CAPTURE(without, with);
   REQUIRE(with > 0);
-  // measured 6,449 against 1,864 (docs/constraints.md "Near-rigid
-  // constraints (opt-in)"; ICC needs about one iteration per solve either way)
-  CHECK(without >= 3 * with);
+  // measured 6,474 against 1,868 (3.47x; docs/constraints.md "Near-rigid
+  // constraints (opt-in)"): at least half of that gain, so that a change of
+  // round-off in CG does not decide the test, and a cap that stops capping
+  // (ratio ~1) fails it
+  CHECK(without >= 2 * with);
 }
 
 TEST_CASE("a bad near-rigid beta is refused, naming the field", "[scene][near-rigid][bad-input]") {

@@ -365,7 +365,8 @@ TEST_CASE("inexact Newton reaches the same answer with fewer CG iterations", "[s
   DynamicArray<Real3> const inexact = run(true, inexactIterations, inexactSolves);
   CAPTURE(exactIterations, inexactIterations, exactSolves, inexactSolves);
   REQUIRE(MaxRelativeDifference(exact, inexact) <= 1e-6);
-  REQUIRE(inexactIterations < exactIterations);
+  // measured 4,458 against 5,534 CG iterations (0.81): at least 10 % fewer
+  REQUIRE(10 * inexactIterations <= 9 * exactIterations);
 }
 
 TEST_CASE("bad PCG settings are refused and change nothing", "[scene][pcg][input]") {
@@ -498,17 +499,29 @@ TEST_CASE("GAMG on a system smaller than the six rigid-body modes steps (found b
   // one revolute joint: a 1-DoF system against 6 near-null-space modes;
   // before, the orthonormalization read the QR factor's diagonal past its
   // end (an Eigen assertion in a debug or sanitizer build)
-  SceneParams params;
-  params.linearSolver = LinearSolverType::PetscPcg;
-  params.pcg.preconditioner = PcgPreconditioner::Gamg;
-  std::unique_ptr<Scene> scene = MakeScene(params);
-  ArticulatedActorParams arm;
-  arm.links.resize(1);
-  arm.links[0].jointToChildPosition = Real3(0.5, 0, 0);
-  Error error;
-  ArticulatedActor* actor = scene->CreateArticulatedActor(arm, error);
-  REQUIRE(actor);
-  REQUIRE(scene->GetNumDofs() == 1);
-  StepOk(*scene, 1e-2, 3);
-  REQUIRE(actor->GetJointPositions()[0] < 0);  // it swings down under gravity
+  auto swing = [](LinearSolverType solver) {
+    SceneParams params;
+    params.linearSolver = solver;
+    params.pcg.preconditioner = PcgPreconditioner::Gamg;
+    params.pcg.relativeTolerance = 1e-12;
+    params.newton.velocityTolerance = 1e-10;
+    std::unique_ptr<Scene> scene = MakeScene(params);
+    ArticulatedActorParams arm;
+    arm.links.resize(1);
+    arm.links[0].jointToChildPosition = Real3(0.5, 0, 0);
+    arm.links[0].centerOfMass = Real3(0.25, 0, 0);
+    Error error;
+    ArticulatedActor* actor = scene->CreateArticulatedActor(arm, error);
+    REQUIRE(actor);
+    REQUIRE(scene->GetNumDofs() == 1);
+    StepOk(*scene, 1e-2, 3);
+    return actor->GetJointPositions()[0];
+  };
+  // the same swing as the direct solver's, to the Newton tolerance (a step
+  // as a velocity of 1e-10 rad/s moves the joint by 1e-12 rad)
+  real const gamg = swing(LinearSolverType::PetscPcg);
+  real const direct = swing(LinearSolverType::Dense);
+  CAPTURE(gamg, direct);
+  REQUIRE(direct < -1e-4);  // it swings down under gravity
+  REQUIRE(std::abs(gamg - direct) <= 1e-10);
 }

@@ -2,7 +2,8 @@
 // the original page the project's spec/constraints.md was taken from,
 // verbatim between the BEGIN/END markers, with only the actors it names set
 // up before and its results checked after. (The spec's own block, the three
-// creation examples in one scope, is tests/constraints/reference_examples_test.)
+// creation examples in one scope, was tests/constraints/reference_examples_test;
+// its checks are in the first case below.)
 #include "test_scenes.h"
 
 // the page's snippets name results they do not use
@@ -66,6 +67,7 @@ TEST_CASE("the original page: the three creation examples", "[scene][reference_p
     Constraint* constraint = scene->CreateDeformableNodePositionConstraint(params, error);
     // END
     REQUIRE(constraint);
+    REQUIRE(constraint->GetType() == ConstraintType::DeformableNodePosition);
   }
   {
     // BEGIN "Connecting Two Rigid Bodies (RigidSphericalJoint)"
@@ -78,6 +80,7 @@ TEST_CASE("the original page: the three creation examples", "[scene][reference_p
     Constraint* constraint = scene->CreateRigidSphericalJointConstraint(params, error);
     // END
     REQUIRE(constraint);
+    REQUIRE(constraint->GetType() == ConstraintType::RigidSphericalJoint);
   }
   {
     // BEGIN "Attaching a Deformable Actor to a Rigid Body (DeformableNodeToRigid)"
@@ -90,11 +93,19 @@ TEST_CASE("the original page: the three creation examples", "[scene][reference_p
     Constraint* constraint = scene->CreateDeformableNodeToRigidConstraint(params, error);
     // END
     REQUIRE(constraint);
+    REQUIRE(constraint->GetType() == ConstraintType::DeformableNodeToRigid);
+    REQUIRE(ToReal3(constraint->GetDeviation()).norm() == 0);  // fixToDeformablePos
   }
   INFO(error.ToString());
   REQUIRE_FALSE(error);
   REQUIRE(scene->GetNumConstraints() == 3);
-  StepOk(*scene, 1e-3);
+  // the constraints act: over 20 ms under gravity the jointed bodies fall
+  // ~2 mm, the pinned node stays at (0, 1, 0) (its weight, ~1.6 N, over k =
+  // 1e6 N/m: ~2e-6 m) and the joint holds its pivots together
+  real const startY = bodyA->GetPosition().y();
+  StepOk(*scene, 1e-3, 20);
+  REQUIRE(bodyA->GetPosition().y() < startY - 1e-3);
+  REQUIRE((softActor->GetNodePosition(0) - Real3(0, 1, 0)).norm() < 1e-4);
 }
 
 TEST_CASE("the original page: lifecycle and identity", "[scene][reference_page]") {

@@ -5,6 +5,7 @@
 // /proc/self/statm) and the heap's live bytes (mallinfo2, or the
 // sanitizer allocator's count under AddressSanitizer, whose quarantine keeps
 // freed memory resident by design).
+#include "allocation_recorder.h"
 #include "test_scenes.h"
 
 #include <malloc.h>
@@ -120,11 +121,24 @@ TEST_CASE("soak: a mixed scene steps 2,000 times with memory flat", "[scene][soa
   real const dt = 1.0 / 240;
   StepOk(*scene, dt, 200);  // warm-up: pattern, analysis, snapshots, allocator pools
   Memory const warm;
-  StepOk(*scene, dt, 1800);
+  // SuperDex's own code (every thread: the recorder interposes the
+  // allocator) allocates in the 1,800 steps only where a linear solver
+  // reports a matrix not positive definite and Newton re-assembles with
+  // projected Hessians: the report's reason is a new string (two
+  // allocations). Measured: 257 such iterations, 514 allocations
+  int fallbacks = 0;
+  int const allocations = test::CountAllocations([&] {
+                            for (int i = 0; i < 1800; ++i) {
+                              StepOk(*scene, dt);
+                              fallbacks += scene->GetStats().projectionFallbacks;
+                            }
+                          }).superdex;
+  CAPTURE(allocations, fallbacks);
+  REQUIRE(allocations <= 2 * fallbacks);
   REQUIRE(scene->GetStats().steps == 2000);
   REQUIRE(scene->GetStats().patternBuilds == 1);
-  // no allocation per step is the rule (allocation_test); the slack is the
-  // allocator's own noise: 1 byte per step would show 1.8 kB
+  // the libraries it calls (CHOLMOD, TBB, PETSc) may allocate; their live
+  // heap stays within 64 KiB: a leak of 37 bytes per step or more would show
   RequireFlat(warm, 64 << 10, 1 << 20);
 }
 
