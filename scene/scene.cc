@@ -164,6 +164,9 @@ void Scene::OnTopologyChanged() {
   }
   for (Constraint* constraint : constraintOrder_) constraint->RefreshDofs();
   topologyChanged_ = true;
+  // the solver's terms may include one just destroyed: forgotten until the
+  // next Analyze (SetNumThreads reserved scratch on a destroyed actor's term)
+  solver_->ForgetTerms();
 }
 
 ActorHandle Scene::AddActor(std::unique_ptr<Actor> actor) {
@@ -591,6 +594,7 @@ void SetFaultInjectionForTesting(Scene& scene, FaultInjection const& fault) {
 void AttachStageTerm(Scene& scene, StageTerm& term) {
   scene.attachedTerms_.push_back(&term);
   scene.topologyChanged_ = true;
+  scene.solver_->ForgetTerms();
 }
 }  // namespace internal
 

@@ -59,6 +59,9 @@ class NewtonSolver {
   /// The first of `values` on which the ranks differ, or -1 (always -1 in
   /// one process): a collective call's arguments checked before it acts.
   int FirstRankDisagreement(Span<std::uint64_t const> values) { return ranks_.FirstDisagreement(values); }
+  /// Drops the terms and DoF owners of the last Analyze (the scene's
+  /// topology changed: some may be destroyed) until the next Analyze.
+  void ForgetTerms() { problem_.Set({}, {}); }
   /// Threads of the assembly (SceneParams::numThreads: 0 = every CPU this
   /// process may use); the assembled values do not depend on it.
   void SetNumThreads(int numThreads);

@@ -175,6 +175,26 @@ TEST_CASE("a thread count outside [0, kMaxThreads] is refused, naming the field,
   }
 }
 
+TEST_CASE("the thread count set between a destruction and the next step touches no destroyed actor",
+          "[scene][parallel][lifetime]") {
+  // SetNumThreads reserved per-thread scratch on every term of the last
+  // analysis, a destroyed actor's included (a use after free found by
+  // fuzz_scene_api: corpus/scene_api/found_stale_term_set_threads.bin;
+  // ASan and UBSan see it, a Release build may not)
+  std::unique_ptr<Scene> scene = MakeMixedScene(2);
+  Error error;
+  REQUIRE(scene->Step(0.01, error));
+  DynamicArray<ActorHandle> handles;
+  scene->ForEachActor([&](Actor& actor) { handles.push_back(actor.GetHandle()); });
+  REQUIRE(handles.size() >= 2);
+  REQUIRE(scene->DestroyActor(handles.front(), error));
+  REQUIRE(scene->SetNumThreads(1, error));
+  REQUIRE(scene->SetNumThreads(2, error));
+  INFO(error.ToString());
+  REQUIRE(scene->Step(0.01, error));
+  REQUIRE(scene->GetNumActors() == static_cast<int>(handles.size()) - 1);
+}
+
 TEST_CASE("a negative thread count is refused, naming the field", "[scene][parallel][input]") {
   SceneParams params;
   params.numThreads = -1;
