@@ -8,8 +8,9 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 bash scripts/setup.sh
 source scripts/env.sh
+source scripts/build_options.sh
 
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+superdex_configure build -DCMAKE_BUILD_TYPE=Release
 # the main job needs the library and the harness only
 cmake --build build -j"${SUPERDEX_BUILD_JOBS}" --target superdex_perf
 

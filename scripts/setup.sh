@@ -7,7 +7,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libmetis-dev petsc-dev libtbb-dev
   catch2 pybind11-dev
   python3-dev python3-numpy python3-matplotlib python3-pytest

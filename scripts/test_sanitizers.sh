@@ -10,14 +10,22 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source scripts/env.sh
 
-CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Sanitize \
+source scripts/build_options.sh
+
+start=${SECONDS}
+CC=clang CXX=clang++ superdex_configure build-asan -DCMAKE_BUILD_TYPE=Sanitize \
   -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1" \
   -DSUPERDEX_SANITIZE=address,undefined -DSUPERDEX_FUZZ=ON -DSUPERDEX_BUILD_TESTS=ON \
   -DSUPERDEX_BUILD_EXAMPLES=OFF -DSUPERDEX_BUILD_PERF=OFF -DSUPERDEX_BUILD_PYTHON=OFF
 cmake --build build-asan -j"${SUPERDEX_BUILD_JOBS}"
+echo "test_sanitizers.sh: build $((SECONDS - start)) s"
 
 # LeakSanitizer is off: Open MPI (initialized by PETSc) leaks from plugins it
 # has unloaded by exit, whose stacks cannot be symbolized or suppressed
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-ctest --test-dir build-asan --output-on-failure -j2 -LE install
+start=${SECONDS}
+status=0
+ctest --test-dir build-asan --output-on-failure -j2 -LE install || status=$?
+echo "test_sanitizers.sh: tests $((SECONDS - start)) s"
+exit "${status}"

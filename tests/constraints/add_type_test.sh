@@ -40,8 +40,10 @@ added=$(git diff --numstat constraints/constraint_types.h | awk '{ print $1 " ad
 echo "add_type_test: constraints/constraint_types.h: ${added}"
 [[ ${added} == "1 added, 0 removed" ]] || { echo "add_type_test: expected one line added to the list"; exit 1; }
 
-# the library and mochi from the copy (unoptimized: only the wiring is checked)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Debug -DSUPERDEX_NATIVE=OFF -DSUPERDEX_BUILD_TESTS=OFF \
+# the library and mochi from the copy: build type None, neither optimized
+# nor with debug information (only the wiring is checked)
+source scripts/build_options.sh
+superdex_configure build -DCMAKE_BUILD_TYPE=None -DSUPERDEX_NATIVE=OFF -DSUPERDEX_BUILD_TESTS=OFF \
   -DSUPERDEX_BUILD_EXAMPLES=OFF -DSUPERDEX_BUILD_PERF=OFF -DSUPERDEX_BUILD_PYTHON=ON > configure.log
 cmake --build build -j"${SUPERDEX_BUILD_JOBS:-2}" --target mochi > build.log 2>&1 || { tail -40 build.log; exit 1; }
 PYTHONPATH=build/python PYTHONDONTWRITEBYTECODE=1 "${python}" "${here}/new_type/check_new_type.py" .
