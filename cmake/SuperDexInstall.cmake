@@ -1,15 +1,20 @@
 # Installation and the find_package(SuperDex) package.
 #
-#   <prefix>/lib/libsuperdex.so*                         the library
+#   <prefix>/lib/libsuperdex.so*                         the library (libsuperdex.a: BUILD_SHARED_LIBS=OFF)
 #   <prefix>/include/superdex/<folder>/*.h               public headers, same paths as in the tree
 #   <prefix>/include/superdex/superdex.h                 umbrella header
 #   <prefix>/include/superdex/core/config.h              generated build configuration
 #   <prefix>/include/superdex/constraints/constraint_type_headers.h   generated from constraint_types.h
 #   <prefix>/lib/cmake/SuperDex/SuperDex{Config,ConfigVersion,Targets}.cmake
+#   <prefix>/lib/cmake/SuperDex/SuperDexPrivateDependencies.cmake   static builds only
 #
 # Consumers write find_package(SuperDex) and link SuperDex::superdex, which
-# brings Eigen (PUBLIC). CHOLMOD, METIS and the BLAS they load are PRIVATE to
-# the shared library and do not appear in the exported interface.
+# brings Eigen and Eigen's pinned alignment (PUBLIC), nothing else: no -march
+# (docs/install.md). CHOLMOD, METIS, oneTBB, PETSc, MPI and the BLAS they
+# load are PRIVATE to the shared library and do not appear in the exported
+# interface; a static library leaves them to the consumer's link step, and
+# its SuperDexConfig.cmake finds them with the file the build uses,
+# SuperDexPrivateDependencies.cmake, installed next to it.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -75,6 +80,11 @@ install(FILES
   ${PROJECT_BINARY_DIR}/SuperDexConfigVersion.cmake
   DESTINATION ${SUPERDEX_INSTALL_CMAKEDIR}
   COMPONENT development)
+if(SUPERDEX_STATIC)
+  install(FILES ${PROJECT_SOURCE_DIR}/cmake/SuperDexPrivateDependencies.cmake
+    DESTINATION ${SUPERDEX_INSTALL_CMAKEDIR}
+    COMPONENT development)
+endif()
 
 unset(_superdex_includes_destination)
 unset(_superdex_type)
