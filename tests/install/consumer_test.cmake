@@ -1,9 +1,11 @@
 # Script run by the install tests (cmake -P), tests/install/CMakeLists.txt:
 #
 #   install_and_consume         MODE=install: installs an existing build tree
-#   install_static_and_consume  MODE=static: configures the source tree into a
-#                               scratch build with BUILD_SHARED_LIBS=OFF, builds
-#                               only the library and installs it
+#   install_static_and_consume  MODE=static: installs the static build that
+#                               add_constraint_type made (SUPERDEX_BINARY_DIR), or
+#                               configures the source tree into a scratch build
+#                               with BUILD_SHARED_LIBS=OFF, builds only the
+#                               library and installs it
 #
 # then, for both, checks the installed package and configures, builds and runs
 # examples/consumer against it with find_package(SuperDex) three times: with
@@ -16,8 +18,10 @@
 # Inputs:
 #   MODE                 install (default) or static
 #   TEST_NAME            name in the messages (default install_and_consume)
-#   SUPERDEX_BINARY_DIR  MODE=install: the SuperDex build tree to install
-#   SUPERDEX_SOURCE_DIR  MODE=static: the SuperDex source tree to configure
+#   SUPERDEX_BINARY_DIR  the SuperDex build tree to install (MODE=static: a
+#                        static one; unset, one is built from the source tree)
+#   SUPERDEX_SOURCE_DIR  MODE=static without SUPERDEX_BINARY_DIR: the SuperDex
+#                        source tree to configure
 #   GENERATOR            MODE=static: CMake generator of the scratch build
 #                        (default: CMake's)
 #   SUPERDEX_NATIVE      MODE=static: passed through (default: the option's)
@@ -45,6 +49,8 @@ if(NOT TEST_NAME)
   set(TEST_NAME install_and_consume)
 endif()
 if(MODE STREQUAL "install")
+  set(required SUPERDEX_BINARY_DIR)
+elseif(MODE STREQUAL "static" AND SUPERDEX_BINARY_DIR)
   set(required SUPERDEX_BINARY_DIR)
 elseif(MODE STREQUAL "static")
   set(required SUPERDEX_SOURCE_DIR)
@@ -105,7 +111,7 @@ function(check_failed)
 endfunction()
 
 # 1. the package: install an existing build, or build a static one here
-if(MODE STREQUAL "install")
+if(SUPERDEX_BINARY_DIR)
   run_stage("install into ${prefix}" COMMAND
     ${CMAKE_COMMAND} --install ${SUPERDEX_BINARY_DIR} --prefix ${prefix} --config ${BUILD_TYPE})
 else()
