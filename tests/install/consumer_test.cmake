@@ -110,10 +110,18 @@ function(check_failed)
   message(SEND_ERROR "${TEST_NAME}: ${text}")
 endfunction()
 
-# 1. the package: install an existing build, or build a static one here
+# 1. the package: install an existing build (in the build type it was made
+# with: the exported targets of a None build name only that configuration),
+# or build a static one here
 if(SUPERDEX_BINARY_DIR)
+  set(install_config ${BUILD_TYPE})
+  file(STRINGS ${SUPERDEX_BINARY_DIR}/CMakeCache.txt cached_type REGEX "^CMAKE_BUILD_TYPE:")
+  string(REGEX REPLACE "^CMAKE_BUILD_TYPE:[A-Z]*=" "" cached_type "${cached_type}")
+  if(cached_type)
+    set(install_config ${cached_type})
+  endif()
   run_stage("install into ${prefix}" COMMAND
-    ${CMAKE_COMMAND} --install ${SUPERDEX_BINARY_DIR} --prefix ${prefix} --config ${BUILD_TYPE})
+    ${CMAKE_COMMAND} --install ${SUPERDEX_BINARY_DIR} --prefix ${prefix} --config ${install_config})
 else()
   set(superdex_build ${WORK_DIR}/superdex)
   set(generator_args)
