@@ -22,6 +22,9 @@
 #include <superdex/constraints/constraint.h>
 #include <superdex/constraints/constraint_type_headers.h>  // every type (constraint_types.h)
 
+#include <superdex/contact/collider.h>
+#include <superdex/contact/contact_params.h>
+
 #include <superdex/linsolve/linear_solver.h>
 
 #include <superdex/stage/integrator.h>

@@ -173,6 +173,7 @@ std::unique_ptr<RodActor> RodActor::Create(RodActorParams const& params, Error& 
   a.stiffness_ = {params.youngModulus * area, params.youngModulus * inertia1, params.youngModulus * inertia2,
                   shear * torsion};
   a.reference_ = params.nodes;
+  a.radius_ = params.radius;
   a.restLength_.resize(numElements);
   a.mass_.assign(numNodes, 0);
   a.twistInertia_.assign(numNodes, 0);

@@ -78,6 +78,8 @@ class RodActor final : public NodalActor {
   real GetTwistInertia(int i) const { return twistInertia_[i]; }
   real GetTotalMass() const;
   real GetRestLength(int e) const { return restLength_[e]; }
+  /// The section's radius (RodActorParams::radius) [m]: a rod collider's thickness.
+  real GetRadius() const { return radius_; }
   /// Material frame [d₁ d₂ t] of element e, 0 <= e < GetNumElements().
   Real33 GetMaterialFrame(int e) const;
   /// World angular increment of element e's material frame per increment of
@@ -139,6 +141,7 @@ class RodActor final : public NodalActor {
   DynamicArray<real> mass_, twistInertia_, restLength_;
   DynamicArray<internal::RodStencilRest> stencilRest_;  ///< interior node i at [i − 1]
   internal::RodStiffness stiffness_;
+  real radius_ = 0;
   Quat identity_ = Quat::Identity();
 
   State state_;

@@ -76,7 +76,8 @@ Scene::Scene(SceneParams const& params)
       params_(params),
       actors_(id_),
       constraints_(id_),
-      solver_(std::make_unique<internal::NewtonSolver>()) {}
+      solver_(std::make_unique<internal::NewtonSolver>()),
+      contact_(params.contact) {}
 
 Scene::~Scene() = default;
 
@@ -118,6 +119,7 @@ std::unique_ptr<Scene> Scene::Create(SceneParams const& params, Error& error) {
   if (!CheckConstraintHessian(params.newton.constraintHessian, "SceneParams.newton.constraintHessian", false,
                               error))
     return nullptr;
+  if (!ValidateContactParams(params.contact, error)) return nullptr;
   if (!CheckNonNegative(params.newton.nearRigidBeta, "SceneParams.newton.nearRigidBeta", error))
     return nullptr;
   if (!(params.newton.factorReuseTolerance > 0 && params.newton.factorReuseTolerance < 1)) {
@@ -228,10 +230,44 @@ bool Scene::DestroyActor(ActorHandle handle, Error& error) {
     for (int i = 0; i < c->GetNumActors(); ++i)
       if (c->GetActor(i) == actor) doomed.push_back(c->GetHandle());
   for (ConstraintHandle c : doomed) RemoveConstraint(constraints_.Get(c));
+  contact_.RemoveActor(handle);
   actorOrder_.erase(std::find(actorOrder_.begin(), actorOrder_.end(), actor));
   actors_.Remove(handle);
   OnTopologyChanged();
   return true;
+}
+
+// ---- contact ----
+
+Collider* Scene::CreateCollider(ColliderParams const& params, Error& error) {
+  if (params_.communicator.IsSet() && params_.communicator.GetSize() > 1) {
+    error.Set(ErrorCode::NotSupported, "CreateCollider: contact on a scene across " +
+                                           std::to_string(params_.communicator.GetSize()) +
+                                           " MPI ranks is not supported yet (docs/contact.md)");
+    return nullptr;
+  }
+  RigidActor* rigid = nullptr;
+  NodalActor* nodal = nullptr;
+  if (!params.actor.IsNull()) {
+    Actor* actor = actors_.Get(params.actor);
+    if (!actor) {
+      error.Set(ErrorCode::InvalidHandle, "CreateCollider: actor handle " + HandleText(params.actor) + " " +
+                                              WhyMissing(actors_, params.actor, id_));
+      return nullptr;
+    }
+    if (actor->GetType() == ActorType::Rigid) {
+      rigid = static_cast<RigidActor*>(actor);
+    } else if (actor->GetType() == ActorType::Deformable || actor->GetType() == ActorType::Rod) {
+      nodal = static_cast<NodalActor*>(actor);
+    } else {
+      error.Set(ErrorCode::NotSupported, "CreateCollider: colliders on articulated actors are not supported yet");
+      return nullptr;
+    }
+  }
+  Collider* collider = contact_.Add(params, rigid, nodal, error);
+  if (!collider) return nullptr;
+  OnTopologyChanged();
+  return collider;
 }
 
 // ---- constraints ----
@@ -406,6 +442,7 @@ bool Scene::Step(real dt, Error& error) {
     constraintTerm_.SetConstraints(constraintOrder_);
     terms.push_back(&constraintTerm_);
     terms.insert(terms.end(), attachedTerms_.begin(), attachedTerms_.end());
+    if (!contact_.Empty()) terms.push_back(&contact_);
     if (!solver_->Analyze(std::move(dofs), std::move(terms), params_.ordering, stats_, error)) return false;
     topologyChanged_ = false;
     stats_.analysisSeconds +=
@@ -418,6 +455,7 @@ bool Scene::Step(real dt, Error& error) {
   constraintSnapshots_.resize(constraintOrder_.size());
   for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
     constraintSnapshots_[i] = constraintOrder_[i]->GetState().oldTarget;
+  contact_.SaveState();
 
   // the step whole; if it fails, again from the exact pre-step state as 2,
   // 4, ... sub-steps, up to the policy's cap (SubstepParams)
@@ -459,6 +497,9 @@ bool Scene::Step(real dt, Error& error) {
   historyStep_ = historyStep;
   time_ += dt;
   ++stats_.steps;
+  stats_.contactCandidates = contact_.GetNumCandidates();
+  stats_.activeContacts = contact_.GetNumActive();
+  stats_.minContactDistance = contact_.GetMinDistance();
   if (substeps > 1) ++stats_.substeppedSteps;
   stats_.stepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return true;
@@ -553,6 +594,7 @@ void Scene::RestorePreStepState() {
     actorOrder_[i]->RestoreSnapshot(*actorSnapshots_[i]);
   for (std::size_t i = 0; i < constraintOrder_.size(); ++i)
     constraintOrder_[i]->GetState().oldTarget = constraintSnapshots_[i];
+  contact_.RestoreState();
 }
 
 void Scene::SaveOrRestoreSubstepState(bool save) {

@@ -24,6 +24,7 @@
 #include <superdex/constraints/constraint_set.h>
 #include <superdex/constraints/constraint_type_headers.h>  // generated from constraint_types.h
 #include <superdex/constraints/constraint_validation.h>
+#include <superdex/contact/contact_system.h>
 #include <superdex/core/error.h>
 #include <superdex/core/slot_map.h>
 #include <superdex/scene/scene_params.h>
@@ -122,6 +123,17 @@ class Scene : private internal::ActorLookup {
   static constexpr int kPointerQuarantine = 64;
   int GetNumConstraints() const { return static_cast<int>(constraintOrder_.size()); }
 
+  // ---- contact (docs/contact.md) ----
+  /// A collider on an actor (a rigid actor's shape, a deformable or rod
+  /// actor's Surface) or, with a null actor, a static obstacle. Validates the
+  /// shape (finite values, positive sizes, non-degenerate triangles) and
+  /// refuses a collider that starts intersecting another one it may touch;
+  /// nullptr and an Error naming the field (or both colliders) on bad input.
+  Collider* CreateCollider(ColliderParams const& params, Error& error);
+  int GetNumColliders() const { return contact_.GetNumColliders(); }
+  /// The contacts closer than the activation distance at the last step's end.
+  void GetContacts(DynamicArray<ContactInfo>& contacts) const { contact_.GetContacts(contacts); }
+
   // ---- stepping ----
   /// Advances by dt (finite, > 0). Transactional: on failure nothing changes.
   /// With SubstepParams::maxSubsteps > 1, a failed step is retried from the
@@ -205,6 +217,7 @@ class Scene : private internal::ActorLookup {
   internal::ConstraintSet constraintTerm_;
   /// terms attached after the constraints (AttachStageTerm)
   DynamicArray<internal::StageTerm*> attachedTerms_;
+  internal::ContactSystem contact_;
   SceneStats stats_;
   real time_ = 0;
   /// Step size over which the actors' integrator history was recorded (the

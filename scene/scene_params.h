@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include <superdex/assembly/ordering.h>
+#include <superdex/contact/contact_params.h>
 #include <superdex/core/communicator.h>
 #include <superdex/core/types.h>
 #include <superdex/linsolve/linear_solver.h>
@@ -76,6 +77,8 @@ struct SceneParams {
   /// then collective: all ranks make it, in the same order. A communicator of
   /// one rank behaves exactly as the default.
   Communicator communicator;
+  /// Contact between colliders (Scene::CreateCollider; docs/contact.md).
+  ContactParams contact;
 };
 
 }  // namespace superdex

@@ -129,6 +129,7 @@ bool NewtonSolver::SetStageContributors(SceneStats& stats, Error& error) {
     ++stats.patternFits;
     return true;
   }
+  ++stats.contactPatternBuilds;
   stats.patternBuilds = assembler_.GetNumPatternBuilds();
   stats.patternGrowths = assembler_.GetNumPatternGrowths();
   stats.hessianNonzeros = assembler_.CountOwnedColumnEntries();

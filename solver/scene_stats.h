@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include <superdex/core/types.h>
@@ -82,6 +83,15 @@ struct SceneStats {
   std::string linearSolver;          ///< what ran, as the backend reports it
   /// Contributors whose DoF lists change between stages, in the last stage.
   int stageContributors = 0;
+  /// Contact (docs/contact.md), at the end of the last step: candidate pairs
+  /// of its last stage, those closer than the activation distance d̂, and
+  /// their smallest gap [m] (+inf without candidates).
+  int contactCandidates = 0;
+  int activeContacts = 0;
+  real minContactDistance = std::numeric_limits<real>::infinity();
+  /// Pattern rebuilds (orderings and growths in the kept order) that the
+  /// stages' changing contributors (contact pairs) caused, since creation.
+  std::int64_t contactPatternBuilds = 0;
   // time of each phase of the last step [s]
   double analysisSeconds = 0;        ///< pattern build + symbolic analysis
   // ... analysisSeconds split: the block graph and its ordering (METIS), the

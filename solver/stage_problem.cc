@@ -41,7 +41,11 @@ void StageProblem::AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& d
 }
 
 void StageProblem::MoveToFirstIterate() {
+  if (boundsSteps_) SaveIterate();
   for (StageDofs* owner : dofs_) owner->MoveToFirstIterate();
+  if (boundsSteps_ && !std::all_of(terms_.begin(), terms_.end(),
+                                   [](StageTerm const* t) { return !t->BoundsSteps() || t->AcceptsFirstIterate(); }))
+    RestoreIterate();
 }
 
 EnergySum StageProblem::Energy(HessianAssembler const& assembler, RankGroup& ranks) const {

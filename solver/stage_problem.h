@@ -34,7 +34,8 @@ class StageProblem {
   /// The terms' stage contributors (the second family) for this stage, in
   /// term order, recording each term's first.
   void AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists);
-  /// Every DoF owner to its first iterate.
+  /// Every DoF owner to its first iterate, or back to the stage start when a
+  /// term that bounds steps refuses the move (StageTerm::AcceptsFirstIterate).
   void MoveToFirstIterate();
   /// Eᵢ at the current iterate: each contributor counted by the one rank
   /// that owns it, the ranks' sums added in rank order (every rank gets the

@@ -139,6 +139,11 @@ class StageTerm {
   /// tries a step beyond the smallest answer. The default: alpha.
   virtual bool BoundsSteps() const { return false; }
   virtual real LargestSafeStep(Span<real const> /*delta*/, real alpha) const { return alpha; }
+  /// For a term that bounds steps: whether the move from the stage start
+  /// (the configuration at BeginStage) to Newton's first iterate keeps it
+  /// valid. When a term refuses, every DoF owner starts the stage from the
+  /// stage start instead (an inertial prediction through an obstacle).
+  virtual bool AcceptsFirstIterate() const { return true; }
   /// Commits the converged stage.
   virtual void EndStage() = 0;
 

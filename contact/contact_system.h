@@ -1,0 +1,183 @@
+// ContactSystem: the colliders of a scene and their contacts, as one term of
+// every stage's incremental potential (stage/stage_term.h; docs/contact.md).
+//
+// Per stage (BeginStage) it finds the candidate pairs of primitives that can
+// come within d̂ during the stage — pairs closer than d̂ plus the stage's
+// displacement bound of their bodies' vertices — and lags each one's normal
+// force λ and tangent basis for friction. The candidates are the term's
+// changing contributors (HessianAssembler's second family): one per pair,
+// over the DoFs of the body it moves. Per Newton iteration it prices the
+// barrier and the friction of every candidate; the line search's safe step
+// (LargestSafeStep) is continuous collision detection of every candidate
+// along the step and the displacement bound of every vertex, so the
+// candidate set stays complete and no trial passes one surface through
+// another. At the stage end it moves each sliding contact's stick anchor.
+//
+// Contacts so far: bodies (rigid actors' shapes, the surfaces of deformable
+// and rod actors) against static obstacles. A contact with an obstacle
+// touches only its body's own DoF block, so the analysed pattern always fits.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+
+#include <superdex/actors/nodal_actor.h>
+#include <superdex/actors/rigid_actor.h>
+#include <superdex/contact/collider.h>
+#include <superdex/contact/contact_params.h>
+#include <superdex/stage/stage_term.h>
+
+namespace superdex {
+
+namespace internal {
+class ContactSystem;
+}
+
+/// One active contact of the last step (Scene::GetContacts).
+struct ContactInfo {
+  int colliderA = -1, colliderB = -1;  ///< collider ids (B: the obstacle)
+  Real3 point = Real3::Zero();         ///< closest point on B [m]
+  Real3 normal = Real3::Zero();        ///< from B towards A (unit)
+  real distance = 0;                   ///< gap d [m]
+  real normalForce = 0;                ///< on A along normal [N]
+  Real3 frictionForce = Real3::Zero(); ///< on A [N]
+};
+
+/// A collider as the user sees it; created by Scene::CreateCollider.
+class Collider {
+ public:
+  int GetId() const { return id_; }
+  ShapeType GetShape() const { return shape_; }
+  /// The carrying actor (null for a static obstacle).
+  ActorHandle GetActor() const { return actor_; }
+  real GetFriction() const { return friction_; }
+  int GetNumVertices() const { return static_cast<int>(local_.size()); }
+  int GetNumTriangles() const { return static_cast<int>(triangles_.size()); }
+
+  /// Internal: geometry as the contact system reads it. Not part of the API.
+  struct Vertex {
+    Real3 local = Real3::Zero();  ///< body frame (rigid) or world (static)
+    int node = -1;                ///< node index (Surface)
+  };
+  DynamicArray<Vertex> const& Vertices() const { return local_; }
+  DynamicArray<std::array<int, 2>> const& Edges() const { return edges_; }
+  DynamicArray<std::array<int, 3>> const& Triangles() const { return triangles_; }
+
+ private:
+  friend class internal::ContactSystem;
+  Collider() = default;
+
+  int id_ = -1;
+  ShapeType shape_ = ShapeType::Surface;
+  ActorHandle actor_;
+  real friction_ = 0;
+  real thickness_ = 0;
+  std::uint32_t group_ = 1, mask_ = 0xffffffffu;
+  // the carrying body (none: static)
+  RigidActor* rigid_ = nullptr;
+  NodalActor* nodal_ = nullptr;
+  // Plane: world normal and the offset c of n·x = c
+  Real3 planeNormal_ = Real3::Zero();
+  real planeOffset_ = 0;
+  DynamicArray<Vertex> local_;
+  DynamicArray<std::array<int, 2>> edges_;
+  DynamicArray<std::array<int, 3>> triangles_;
+  DynamicArray<char> freeVertex_, freeEdge_;  ///< on no edge / on no triangle
+  DynamicArray<real> vertexArea_, edgeArea_;  ///< area each stands for [m²]
+  real radiusBound_ = 0;  ///< rigid: max |local| (rotation's displacement bound)
+};
+
+namespace internal {
+
+class ContactSystem final : public StageTerm {
+ public:
+  explicit ContactSystem(ContactParams const& params) : params_(params) {}
+
+  /// Validates and adds a collider; `rigid` / `nodal` the carrying actor
+  /// (both null: static). nullptr and an InvalidArgument naming the field on
+  /// bad input, nothing added.
+  Collider* Add(ColliderParams const& params, RigidActor* rigid, NodalActor* nodal, Error& error);
+  /// Removes every collider of `actor` (an actor being destroyed).
+  void RemoveActor(ActorHandle actor);
+  bool Empty() const { return colliders_.empty(); }
+  int GetNumColliders() const { return static_cast<int>(colliders_.size()); }
+  Collider const* GetCollider(int id) const;
+
+  void GetContacts(DynamicArray<ContactInfo>& contacts) const;
+  int GetNumCandidates() const { return static_cast<int>(pairs_.size()); }
+  int GetNumActive() const { return active_; }
+  real GetMinDistance() const { return minDistance_; }
+
+  /// Friction anchors committed by the last EndStage, for transactional steps.
+  void SaveState() { savedAnchors_ = anchors_; }
+  void RestoreState() { anchors_ = savedAnchors_; }
+
+  // StageTerm
+  void AppendContributorDofs(DynamicArray<DynamicArray<int>>&) const override {}
+  void AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
+  void BeginStage(StageContext const& stage) override;
+  void AddEnergy(HessianAssembler const& assembler, int firstContributor, EnergySum& sum) const override;
+  void AddGradientAndHessian(HessianAssembler& assembler, int firstContributor,
+                             AssemblyOptions const& options) const override;
+  bool BoundsSteps() const override { return !colliders_.empty(); }
+  real LargestSafeStep(Span<real const> delta, real alpha) const override;
+  bool AcceptsFirstIterate() const override;
+  void EndStage() override;
+
+  enum class PairKind : std::uint8_t { PlaneVertex, PointTriangle, EdgeEdge, PointEdge, PointPoint };
+  /// A candidate pair: vertices v (world positions in x_), each of the body
+  /// collider or of the obstacle.
+  struct Pair {
+    PairKind kind = PairKind::PlaneVertex;
+    int body = -1, obstacle = -1;  ///< collider indices
+    std::array<int, 4> v{-1, -1, -1, -1};  ///< global vertex indices
+    std::array<bool, 4> onBody{false, false, false, false};
+    int numVertices = 0;
+    real thickness = 0, weight = 0, mu = 0;
+    std::uint64_t key = 0;
+    // lagged at the stage start
+    real lambda = 0;
+    Eigen::Matrix<real, 3, 2> basis = Eigen::Matrix<real, 3, 2>::Zero();
+    std::array<real, 4> gamma{0, 0, 0, 0};  ///< relative displacement weights
+    Real3 slip0 = Real3::Zero();            ///< anchor offset at the stage start
+  };
+
+ private:
+  /// Vertex numbering and positions (x_ = x0_) of the current colliders.
+  void PrepareVertices();
+  /// InvalidArgument naming both colliders where collider `index` starts at
+  /// or below zero gap with another it may touch.
+  bool CheckSeparated(int index, Error& error);
+  void UpdatePositions(DynamicArray<Real3>& x) const;
+  void FindCandidates();
+  void AddPairs(int body, int obstacle);
+  void LagFriction(Pair& pair) const;
+  /// Gap (distance less thickness), and with `gradient` its derivative
+  /// w.r.t. the pair's vertex positions (3·numVertices) and Hessian.
+  real Gap(Pair const& pair, DynamicArray<Real3> const& x, Eigen::Matrix<real, 12, 1>* gradient,
+           Eigen::Matrix<real, 12, 12>* hessian) const;
+  real PairEnergy(Pair const& pair) const;
+  /// The safe fraction (≤ tMax) of a rigid body's step δ for one pair
+  /// (conservative advancement on the vertices' arcs; t in units of δ).
+  real RigidPairCcd(Pair const& pair, Span<real const> delta, real tMax) const;
+  void PairDofs(Pair const& pair, DynamicArray<int>& dofs) const;
+
+  ContactParams params_;
+  DynamicArray<std::unique_ptr<Collider>> colliders_;
+  int nextId_ = 0;
+  // all vertices of all colliders, concatenated (firstVertex_[c] …)
+  DynamicArray<int> firstVertex_, vertexCollider_;
+  mutable DynamicArray<Real3> x_;        ///< current positions (refreshed per evaluation)
+  DynamicArray<Real3> x0_;               ///< stage start
+  DynamicArray<real> bound_;             ///< per vertex displacement bound [m]
+  DynamicArray<Pair> pairs_;
+  std::unordered_map<std::uint64_t, Real3> anchors_, savedAnchors_;
+  StageContext stage_;
+  mutable DynamicArray<Real3> displacement_, trial_;
+  int active_ = 0;
+  real minDistance_ = 0;
+};
+
+}  // namespace internal
+}  // namespace superdex
