@@ -157,6 +157,11 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("linear_solver", &T::linearSolver, "what ran, as the backend reports it")
       .def_readonly("stage_contributors", &T::stageContributors,
                     "contributors whose DoF lists change between stages, in the last stage")
+      .def_readonly("contact_candidates", &T::contactCandidates, "candidate contact pairs of the last stage")
+      .def_readonly("active_contacts", &T::activeContacts, "contacts closer than the activation distance")
+      .def_readonly("min_contact_distance", &T::minContactDistance, "smallest contact gap [m] (inf: none)")
+      .def_readonly("contact_pattern_builds", &T::contactPatternBuilds,
+                    "pattern rebuilds the contact pairs caused, since creation")
       .def_readonly("analysis_seconds", &T::analysisSeconds,
                     "pattern build + symbolic analysis [s]")
       .def_readonly("ordering_seconds", &T::orderingSeconds,
