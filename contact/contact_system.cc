@@ -10,6 +10,7 @@
 #include <superdex/actors/rod_actor.h>
 #include <superdex/constraints/rotation_residual.h>
 #include <superdex/contact/barrier.h>
+#include <superdex/contact/bvh.h>
 #include <superdex/contact/ccd.h>
 #include <superdex/contact/distance.h>
 #include <superdex/core/so3.h>
@@ -41,7 +42,6 @@ namespace {
 
 using Vector12 = Eigen::Matrix<real, 12, 1>;
 using Matrix12 = Eigen::Matrix<real, 12, 12>;
-using Matrix32 = Eigen::Matrix<real, 3, 2>;
 
 /// Edges of a triangle list, each once (sorted vertex pair), in a fixed order.
 DynamicArray<std::array<int, 2>> EdgesOf(DynamicArray<std::array<int, 3>> const& triangles) {
@@ -98,14 +98,26 @@ std::uint64_t PairKey(int kind, int body, int obstacle, std::array<int, 4> const
   return h;
 }
 
-/// A unit vector orthogonal to n and a second completing the basis.
-Matrix32 TangentBasis(Real3 const& n) {
-  Real3 const helper = std::abs(n.x()) < 0.9 ? Real3::UnitX() : Real3::UnitY();
-  Real3 const t1 = n.cross(helper).normalized();
-  Matrix32 basis;
-  basis.col(0) = t1;
-  basis.col(1) = n.cross(t1);
-  return basis;
+/// The index of edge (a, b) in `edges` (sorted, as EdgesOf makes them).
+int EdgeIndex(DynamicArray<std::array<int, 2>> const& edges, int a, int b) {
+  std::array<int, 2> const key{std::min(a, b), std::max(a, b)};
+  return static_cast<int>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
+}
+
+/// The box of a primitive's vertices, inflated by `margin`.
+contact::Aabb BoxOf(DynamicArray<Real3> const& x, std::initializer_list<int> vertices, real margin) {
+  contact::Aabb box{x[*vertices.begin()], x[*vertices.begin()]};
+  for (int i : vertices) {
+    box.lower = box.lower.cwiseMin(x[i]);
+    box.upper = box.upper.cwiseMax(x[i]);
+  }
+  box.lower.array() -= margin;
+  box.upper.array() += margin;
+  return box;
+}
+
+real TriangleArea(Real3 const& a, Real3 const& b, Real3 const& c) {
+  return 0.5 * (b - a).cross(c - a).norm();
 }
 
 }  // namespace
@@ -114,14 +126,14 @@ Matrix32 TangentBasis(Real3 const& n) {
 
 Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalActor* nodal, Error& error) {
   if (!CheckFinite(p.position, "position", error) || !CheckUnitQuat(p.rotation, "rotation", error) ||
-      !CheckNonNegative(p.friction, "friction", error) || !CheckNonNegative(p.thickness, "thickness", error))
+      !CheckNonNegative(p.friction, "friction", error) || !CheckNonNegative(p.thickness, "thickness", error) ||
+      !CheckNonNegative(p.radius, "radius", error))
     return nullptr;
   if (p.link != -1) {
     error.Set(ErrorCode::NotSupported, "link: colliders on articulated links are not supported yet, got link " +
                                            std::to_string(p.link));
     return nullptr;
   }
-  bool const onBody = rigid || nodal;
   if (p.shape == ShapeType::Surface && !nodal) {
     error.Set(ErrorCode::InvalidArgument,
               "shape: Surface needs a deformable or rod actor (the actor's own surface)");
@@ -132,7 +144,7 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
                                               std::string(ToString(p.shape)));
     return nullptr;
   }
-  if (p.shape == ShapeType::Plane && onBody) {
+  if (p.shape == ShapeType::Plane && (rigid || nodal)) {
     error.Set(ErrorCode::InvalidArgument, "shape: a Plane is a static obstacle (actor must be null)");
     return nullptr;
   }
@@ -146,151 +158,11 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
   c->nodal_ = nodal;
   if (rigid) c->actor_ = rigid->GetHandle();
   if (nodal) c->actor_ = nodal->GetHandle();
-  Real33 const rotation = p.rotation.toRotationMatrix();
-  auto place = [&](Real3 const& local) {
-    Collider::Vertex v;
-    v.local = p.position + rotation * local;  // the body frame, or world for an obstacle
-    return v;
-  };
   DynamicArray<std::array<int, 3>> triangles;
-  switch (p.shape) {
-    case ShapeType::Plane: {
-      if (!CheckFinite(p.normal, "normal", error)) return nullptr;
-      if (!(p.normal.norm() > 1e-12)) {
-        error.Set(ErrorCode::InvalidArgument, "normal: must be non-zero, got " + Format(p.normal));
-        return nullptr;
-      }
-      c->planeNormal_ = (rotation * p.normal).normalized();
-      c->planeOffset_ = c->planeNormal_.dot(p.position);
-      break;
-    }
-    case ShapeType::Sphere:
-      if (!CheckPositive(p.radius, "radius", error)) return nullptr;
-      c->thickness_ = p.radius;
-      c->local_.push_back(place(Real3::Zero()));
-      break;
-    case ShapeType::Capsule:
-      if (!CheckPositive(p.radius, "radius", error) || !CheckPositive(p.halfLength, "halfLength", error))
-        return nullptr;
-      c->thickness_ = p.radius;
-      c->local_.push_back(place(Real3(0, 0, -p.halfLength)));
-      c->local_.push_back(place(Real3(0, 0, p.halfLength)));
-      c->edges_.push_back({0, 1});
-      break;
-    case ShapeType::Box: {
-      if (!CheckPositive(p.halfExtents, "halfExtents", error)) return nullptr;
-      for (int i = 0; i < 8; ++i)
-        c->local_.push_back(place(Real3((i & 1) ? p.halfExtents.x() : -p.halfExtents.x(),
-                                        (i & 2) ? p.halfExtents.y() : -p.halfExtents.y(),
-                                        (i & 4) ? p.halfExtents.z() : -p.halfExtents.z())));
-      // two outward triangles per face
-      triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                   {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
-      break;
-    }
-    case ShapeType::TriangleMesh: {
-      if (p.vertices.empty() || p.triangles.empty()) {
-        error.Set(ErrorCode::InvalidArgument, "vertices, triangles: a TriangleMesh needs both, got " +
-                                                  std::to_string(p.vertices.size()) + " vertices and " +
-                                                  std::to_string(p.triangles.size()) + " triangles");
-        return nullptr;
-      }
-      for (std::size_t i = 0; i < p.vertices.size(); ++i) {
-        if (!CheckFinite(p.vertices[i], "vertices[" + std::to_string(i) + "]", error)) return nullptr;
-        c->local_.push_back(place(p.vertices[i]));
-      }
-      triangles = p.triangles;
-      break;
-    }
-    case ShapeType::Surface: {
-      DynamicArray<Real3> nodes;
-      for (int i = 0; i < nodal->GetNumNodes(); ++i) nodes.push_back(nodal->GetNodePosition(i));
-      if (nodal->GetType() == ActorType::Rod) {
-        auto const* rod = static_cast<RodActor const*>(nodal);
-        c->thickness_ = p.radius > 0 ? p.radius : rod->GetRadius();
-        for (int e = 0; e + 1 < nodal->GetNumNodes(); ++e) c->edges_.push_back({e, e + 1});
-      } else {
-        auto const* body = static_cast<DeformableActor const*>(nodal);
-        triangles = BoundaryOf(body->GetTetrahedra());
-        for (auto const& t : body->GetTriangles()) triangles.push_back(t);
-      }
-      // every node is a vertex (interior nodes of a solid are never in a
-      // primitive and never move into a candidate)
-      for (int i = 0; i < nodal->GetNumNodes(); ++i) {
-        Collider::Vertex v;
-        v.node = i;
-        c->local_.push_back(v);
-      }
-      if (!CheckNonNegative(p.radius, "radius", error)) return nullptr;
-      break;
-    }
-  }
-  // triangles: indices and degeneracy
-  int const n = static_cast<int>(c->local_.size());
-  auto at = [&](int i) {
-    return c->local_[i].node >= 0 ? nodal->GetNodePosition(c->local_[i].node) : c->local_[i].local;
-  };
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    auto const& tri = triangles[t];
-    for (int i : tri)
-      if (i < 0 || i >= n) {
-        error.Set(ErrorCode::InvalidArgument, "triangles[" + std::to_string(t) + "]: vertex index " +
-                                                  std::to_string(i) + " out of range [0, " + std::to_string(n) +
-                                                  ")");
-        return nullptr;
-      }
-    real const area = 0.5 * (at(tri[1]) - at(tri[0])).cross(at(tri[2]) - at(tri[0])).norm();
-    if (!(area > 0)) {
-      error.Set(ErrorCode::InvalidArgument,
-                "triangles[" + std::to_string(t) + "]: degenerate triangle (zero area)");
-      return nullptr;
-    }
-  }
-  c->triangles_ = triangles;
-  if (!triangles.empty()) c->edges_ = EdgesOf(triangles);
-  // areas: a third of each adjacent triangle per vertex and edge; a
-  // segment's vertices and edge its length times its diameter; a point the
-  // disc of its radius
-  c->vertexArea_.assign(n, 0);
-  c->edgeArea_.assign(c->edges_.size(), 0);
-  c->freeVertex_.assign(n, 1);
-  c->freeEdge_.assign(c->edges_.size(), 1);
-  for (auto const& tri : c->triangles_) {
-    real const area = 0.5 * (at(tri[1]) - at(tri[0])).cross(at(tri[2]) - at(tri[0])).norm();
-    for (int i : tri) c->vertexArea_[i] += area / 3;
-  }
-  for (std::size_t e = 0; e < c->edges_.size(); ++e) {
-    auto const [a, b] = c->edges_[e];
-    c->freeVertex_[a] = c->freeVertex_[b] = 0;
-  }
-  if (!c->triangles_.empty()) {
-    DynamicArray<std::array<int, 2>> const triangleEdges = EdgesOf(c->triangles_);
-    for (std::size_t e = 0; e < c->edges_.size(); ++e) {
-      c->freeEdge_[e] = 0;
-      // an edge's area: a third of each of its (at most two) triangles
-      for (auto const& tri : c->triangles_) {
-        int shared = 0;
-        for (int i : tri) shared += (i == c->edges_[e][0] || i == c->edges_[e][1]);
-        if (shared == 2)
-          c->edgeArea_[e] += (at(tri[1]) - at(tri[0])).cross(at(tri[2]) - at(tri[0])).norm() / 6;
-      }
-    }
-  }
-  real const radius = std::max(c->thickness_, 1e-3);
-  for (std::size_t e = 0; e < c->edges_.size(); ++e) {
-    if (!c->freeEdge_[e]) continue;
-    auto const [a, b] = c->edges_[e];
-    real const length = (at(b) - at(a)).norm();
-    c->edgeArea_[e] = 2 * radius * length;
-    c->vertexArea_[a] += radius * length;
-    c->vertexArea_[b] += radius * length;
-  }
-  for (int i = 0; i < n; ++i)
-    if (c->freeVertex_[i]) c->vertexArea_[i] = M_PI * radius * radius;
-  if (rigid)
-    for (auto const& v : c->local_) c->radiusBound_ = std::max(c->radiusBound_, v.local.norm());
+  if (!MakeShape(p, *c, triangles, error) || !SetPrimitives(*c, std::move(triangles), error)) return nullptr;
   c->id_ = nextId_++;
   colliders_.push_back(std::move(c));
+  trees_.clear();
   if (!CheckSeparated(static_cast<int>(colliders_.size()) - 1, error)) {
     colliders_.pop_back();
     --nextId_;
@@ -300,24 +172,146 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
   return colliders_.back().get();
 }
 
+bool ContactSystem::MakeShape(ColliderParams const& p, Collider& c, DynamicArray<std::array<int, 3>>& triangles,
+                              Error& error) {
+  Real33 const rotation = p.rotation.toRotationMatrix();
+  auto place = [&](Real3 const& local) {
+    Collider::Vertex v;
+    v.local = p.position + rotation * local;  // the body frame, or world for an obstacle
+    c.local_.push_back(v);
+  };
+  switch (p.shape) {
+    case ShapeType::Plane:
+      if (!CheckFinite(p.normal, "normal", error)) return false;
+      if (!(p.normal.norm() > 1e-12)) {
+        error.Set(ErrorCode::InvalidArgument, "normal: must be non-zero, got " + Format(p.normal));
+        return false;
+      }
+      c.planeNormal_ = (rotation * p.normal).normalized();
+      c.planeOffset_ = c.planeNormal_.dot(p.position);
+      return true;
+    case ShapeType::Sphere:
+      if (!CheckPositive(p.radius, "radius", error)) return false;
+      c.thickness_ = p.radius;
+      place(Real3::Zero());
+      return true;
+    case ShapeType::Capsule:
+      if (!CheckPositive(p.radius, "radius", error) || !CheckPositive(p.halfLength, "halfLength", error))
+        return false;
+      c.thickness_ = p.radius;
+      place(Real3(0, 0, -p.halfLength));
+      place(Real3(0, 0, p.halfLength));
+      c.edges_.push_back({0, 1});
+      return true;
+    case ShapeType::Box: {
+      if (!CheckPositive(p.halfExtents, "halfExtents", error)) return false;
+      Real3 const e = p.halfExtents;
+      for (int i = 0; i < 8; ++i) place(Real3((i & 1) ? e.x() : -e.x(), (i & 2) ? e.y() : -e.y(), (i & 4) ? e.z() : -e.z()));
+      // two outward triangles per face
+      triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                   {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+      return true;
+    }
+    case ShapeType::TriangleMesh:
+      if (p.vertices.empty() || p.triangles.empty()) {
+        error.Set(ErrorCode::InvalidArgument, "vertices, triangles: a TriangleMesh needs both, got " +
+                                                  std::to_string(p.vertices.size()) + " vertices and " +
+                                                  std::to_string(p.triangles.size()) + " triangles");
+        return false;
+      }
+      for (std::size_t i = 0; i < p.vertices.size(); ++i) {
+        if (!CheckFinite(p.vertices[i], "vertices[" + std::to_string(i) + "]", error)) return false;
+        place(p.vertices[i]);
+      }
+      triangles = p.triangles;
+      return true;
+    case ShapeType::Surface: {
+      NodalActor const& nodal = *c.nodal_;
+      if (nodal.GetType() == ActorType::Rod) {
+        c.thickness_ = p.radius > 0 ? p.radius : static_cast<RodActor const&>(nodal).GetRadius();
+        for (int e = 0; e + 1 < nodal.GetNumNodes(); ++e) c.edges_.push_back({e, e + 1});
+      } else {
+        auto const& body = static_cast<DeformableActor const&>(nodal);
+        triangles = BoundaryOf(body.GetTetrahedra());
+        triangles.insert(triangles.end(), body.GetTriangles().begin(), body.GetTriangles().end());
+      }
+      // every node is a vertex; a solid's interior nodes are on no
+      // primitive, stand for no area and are never in a candidate
+      for (int i = 0; i < nodal.GetNumNodes(); ++i) {
+        Collider::Vertex v;
+        v.node = i;
+        c.local_.push_back(v);
+      }
+      return true;
+    }
+  }
+  error.Set(ErrorCode::InvalidArgument,
+            "shape: must be a ShapeType, got the value " + std::to_string(static_cast<int>(p.shape)));
+  return false;
+}
+
+bool ContactSystem::SetPrimitives(Collider& c, DynamicArray<std::array<int, 3>> triangles, Error& error) const {
+  int const n = static_cast<int>(c.local_.size());
+  auto at = [&](int i) { return c.local_[i].node >= 0 ? c.nodal_->GetNodePosition(c.local_[i].node) : c.local_[i].local; };
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    auto const& tri = triangles[t];
+    for (int i : tri)
+      if (i < 0 || i >= n) {
+        error.Set(ErrorCode::InvalidArgument, "triangles[" + std::to_string(t) + "]: vertex index " +
+                                                  std::to_string(i) + " out of range [0, " + std::to_string(n) +
+                                                  ")");
+        return false;
+      }
+    if (!(TriangleArea(at(tri[0]), at(tri[1]), at(tri[2])) > 0)) {
+      error.Set(ErrorCode::InvalidArgument, "triangles[" + std::to_string(t) + "]: degenerate triangle (zero area)");
+      return false;
+    }
+  }
+  c.triangles_ = std::move(triangles);
+  if (!c.triangles_.empty()) c.edges_ = EdgesOf(c.triangles_);
+  // the area each primitive stands for: a third of each adjacent triangle
+  // for a mesh's vertices and edges; a free segment's length times its
+  // diameter (half to each vertex); a free point the disc of its radius
+  c.vertexArea_.assign(n, 0);
+  c.edgeArea_.assign(c.edges_.size(), 0);
+  c.freeVertex_.assign(n, 1);
+  c.freeEdge_.assign(c.edges_.size(), c.triangles_.empty() ? 1 : 0);
+  for (auto const& tri : c.triangles_) {
+    real const area = TriangleArea(at(tri[0]), at(tri[1]), at(tri[2]));
+    for (int k = 0; k < 3; ++k) {
+      c.vertexArea_[tri[k]] += area / 3;
+      c.edgeArea_[EdgeIndex(c.edges_, tri[k], tri[(k + 1) % 3])] += area / 3;
+    }
+  }
+  for (std::size_t e = 0; e < c.edges_.size(); ++e) {
+    auto const [a, b] = c.edges_[e];
+    c.freeVertex_[a] = c.freeVertex_[b] = 0;
+    if (!c.freeEdge_[e]) continue;
+    real const length = (at(b) - at(a)).norm();
+    c.edgeArea_[e] = 2 * c.thickness_ * length;
+    c.vertexArea_[a] += c.thickness_ * length;
+    c.vertexArea_[b] += c.thickness_ * length;
+  }
+  for (int i = 0; i < n; ++i)
+    if (c.freeVertex_[i] && c.nodal_ == nullptr) c.vertexArea_[i] = M_PI * c.thickness_ * c.thickness_;
+  return true;
+}
+
 bool ContactSystem::CheckSeparated(int index, Error& error) {
   PrepareVertices();
   bound_.assign(x_.size(), 0);
   pairs_.clear();
   Collider const& added = *colliders_[index];
-  bool const moves = added.rigid_ || added.nodal_;
   for (int other = 0; other < index; ++other) {
     Collider const& c = *colliders_[other];
-    bool const otherMoves = c.rigid_ || c.nodal_;
-    if (moves == otherMoves) continue;  // only body–obstacle pairs touch so far
-    if (!(added.group_ & c.mask_) || !(c.group_ & added.mask_)) continue;
-    if (moves)
+    if (added.Moves() == c.Moves() || !Touch(added, c)) continue;  // only body–obstacle pairs so far
+    if (added.Moves())
       AddPairs(index, other);
     else
       AddPairs(other, index);
   }
   for (Pair const& pair : pairs_) {
-    real const gap = Gap(pair, x_, nullptr, nullptr);
+    real const gap = Gap(pair, x_);
     if (gap > 0) continue;
     Collider const& body = *colliders_[pair.body];
     Collider const& obstacle = *colliders_[pair.obstacle];
@@ -338,9 +332,6 @@ void ContactSystem::PrepareVertices() {
   for (std::size_t c = 0; c < colliders_.size(); ++c)
     firstVertex_[c + 1] = firstVertex_[c] + static_cast<int>(colliders_[c]->local_.size());
   int const numVertices = firstVertex_.back();
-  vertexCollider_.resize(numVertices);
-  for (std::size_t c = 0; c < colliders_.size(); ++c)
-    for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) vertexCollider_[i] = static_cast<int>(c);
   x_.resize(numVertices);
   trial_.resize(numVertices);
   displacement_.resize(numVertices);
@@ -351,6 +342,7 @@ void ContactSystem::PrepareVertices() {
 void ContactSystem::RemoveActor(ActorHandle actor) {
   std::erase_if(colliders_, [&](std::unique_ptr<Collider> const& c) { return !actor.IsNull() && c->actor_ == actor; });
   pairs_.clear();
+  trees_.clear();
   PrepareVertices();
 }
 
@@ -358,6 +350,10 @@ Collider const* ContactSystem::GetCollider(int id) const {
   for (auto const& c : colliders_)
     if (c->id_ == id) return c.get();
   return nullptr;
+}
+
+bool ContactSystem::Touch(Collider const& a, Collider const& b) {
+  return (a.group_ & b.mask_) && (b.group_ & a.mask_);
 }
 
 // ---- positions ----
@@ -381,19 +377,16 @@ void ContactSystem::UpdatePositions(DynamicArray<Real3>& x) const {
 // ---- candidates ----
 
 void ContactSystem::BeginStage(StageContext const& stage) {
-  stage_ = stage;
   PrepareVertices();
-  int const numVertices = firstVertex_.back();
   // each vertex's displacement bound for the stage: twice the free motion
   // (velocity and gravity over the stage) of the body's fastest vertex, plus
   // d̂. The body's fastest, not the vertex's own: a vertex at rest is pushed
   // by the rest of its body (a ball's bottom spreads as its top lands on it)
   real const h = stage.coefficients.duration;
-  real const dhat = params_.activationDistance;
-  bound_.assign(numVertices, 0);
+  bound_.assign(x_.size(), 0);
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
     Collider const& col = *colliders_[c];
-    if (!col.rigid_ && !col.nodal_) continue;
+    if (!col.Moves()) continue;
     real speed = 0;
     for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) {
       if (col.rigid_) {
@@ -403,25 +396,42 @@ void ContactSystem::BeginStage(StageContext const& stage) {
         speed = std::max(speed, col.nodal_->GetNodeVelocity(col.local_[i - firstVertex_[c]].node).norm());
       }
     }
-    real const bound = 2 * (speed * h + stage.gravity.norm() * h * h) + dhat;
-    for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) bound_[i] = bound;
+    real const bound = 2 * (speed * h + stage.gravity.norm() * h * h) + params_.activationDistance;
+    std::fill(bound_.begin() + firstVertex_[c], bound_.begin() + firstVertex_[c + 1], bound);
   }
-  FindCandidates();
+  pairs_.clear();
+  for (std::size_t a = 0; a < colliders_.size(); ++a) {
+    if (!colliders_[a]->Moves()) continue;
+    for (std::size_t b = 0; b < colliders_.size(); ++b)
+      if (!colliders_[b]->Moves() && Touch(*colliders_[a], *colliders_[b]))  // body–body contact: not yet
+        AddPairs(static_cast<int>(a), static_cast<int>(b));
+  }
   for (Pair& pair : pairs_) LagFriction(pair);
 }
 
-void ContactSystem::FindCandidates() {
-  pairs_.clear();
-  for (std::size_t a = 0; a < colliders_.size(); ++a) {
-    Collider const& body = *colliders_[a];
-    if (!body.rigid_ && !body.nodal_) continue;
-    for (std::size_t b = 0; b < colliders_.size(); ++b) {
-      Collider const& obstacle = *colliders_[b];
-      if (obstacle.rigid_ || obstacle.nodal_) continue;  // body–body contact: not yet
-      if (!(body.group_ & obstacle.mask_) || !(obstacle.group_ & body.mask_)) continue;
-      AddPairs(static_cast<int>(a), static_cast<int>(b));
-    }
+ContactSystem::ObstacleTrees const& ContactSystem::TreesOf(int obstacleIndex) {
+  if (trees_.size() != colliders_.size()) {
+    trees_.clear();
+    trees_.resize(colliders_.size());
   }
+  std::unique_ptr<ObstacleTrees>& trees = trees_[obstacleIndex];
+  if (!trees) {
+    // an obstacle never moves: its trees are built once
+    trees = std::make_unique<ObstacleTrees>();
+    Collider const& o = *colliders_[obstacleIndex];
+    int const f = firstVertex_[obstacleIndex];
+    DynamicArray<contact::Aabb> boxes;
+    Error ignored;  // the boxes are finite: the shape was validated
+    for (auto const& t : o.triangles_) boxes.push_back(BoxOf(x_, {f + t[0], f + t[1], f + t[2]}, 0));
+    trees->triangles.Build(boxes, ignored);
+    boxes.clear();
+    for (auto const& e : o.edges_) boxes.push_back(BoxOf(x_, {f + e[0], f + e[1]}, 0));
+    trees->edges.Build(boxes, ignored);
+    boxes.clear();
+    for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) boxes.push_back(BoxOf(x_, {f + i}, 0));
+    trees->vertices.Build(boxes, ignored);
+  }
+  return *trees;
 }
 
 void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
@@ -432,6 +442,7 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   real const thickness = body.thickness_ + obstacle.thickness_;
   real const mu = std::sqrt(body.friction_ * obstacle.friction_);
   auto add = [&](PairKind kind, std::array<int, 4> v, std::array<bool, 4> onBody, int count, real weight) {
+    if (!(weight > 0)) return;
     Pair pair;
     pair.kind = kind;
     pair.body = bodyIndex;
@@ -443,200 +454,228 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
     pair.weight = weight;
     pair.mu = mu;
     pair.key = PairKey(static_cast<int>(kind), body.id_, obstacle.id_, v);
+    if (kind == PairKind::EdgeEdge)
+      pair.mollifierThreshold = contact::EdgeEdgeMollifierThreshold(x_[v[0]], x_[v[1]], x_[v[2]], x_[v[3]]);
     pairs_.push_back(pair);
-  };
-  // the box of a set of vertices over the stage: start ± bound
-  auto reach = [&](int i) { return bound_[i]; };
-  auto near = [&](std::initializer_list<int> a, std::initializer_list<int> b) {
-    Eigen::AlignedBox<real, 3> boxA, boxB;
-    real ra = 0, rb = 0;
-    for (int i : a) {
-      boxA.extend(x_[i]);
-      ra = std::max(ra, reach(i));
-    }
-    for (int i : b) {
-      boxB.extend(x_[i]);
-      rb = std::max(rb, reach(i));
-    }
-    real const margin = dhat + thickness + ra + rb;
-    return (boxA.min().array() - margin <= boxB.max().array()).all() &&
-           (boxB.min().array() - margin <= boxA.max().array()).all();
   };
   int const nb = static_cast<int>(body.local_.size());
   if (obstacle.shape_ == ShapeType::Plane) {
     for (int i = 0; i < nb; ++i) {
-      // vertices on a primitive only (a solid's interior nodes never touch)
-      bool const used = body.freeVertex_[i] ? body.shape_ != ShapeType::Surface || body.edges_.empty() : true;
-      if (!used || body.vertexArea_[i] <= 0) continue;
       real const gap = obstacle.planeNormal_.dot(x_[fb + i]) - obstacle.planeOffset_ - thickness;
-      if (gap < dhat + reach(fb + i)) add(PairKind::PlaneVertex, {fb + i, -1, -1, -1}, {true, false, false, false}, 1,
-                                          body.vertexArea_[i]);
+      if (gap < dhat + bound_[fb + i])
+        add(PairKind::PlaneVertex, {fb + i, -1, -1, -1}, {true, false, false, false}, 1, body.vertexArea_[i]);
     }
     return;
   }
-  // body vertices against obstacle triangles, obstacle vertices against body triangles
-  for (int i = 0; i < nb; ++i) {
-    if (body.vertexArea_[i] <= 0) continue;
-    for (auto const& t : obstacle.triangles_)
-      if (near({fb + i}, {fo + t[0], fo + t[1], fo + t[2]}))
-        add(PairKind::PointTriangle, {fb + i, fo + t[0], fo + t[1], fo + t[2]}, {true, false, false, false}, 4,
-            body.vertexArea_[i]);
+  // the body's primitives over the stage: their start boxes inflated by the
+  // displacement bound, d̂ and the thickness, against the obstacle's trees
+  real const margin = bound_.empty() ? dhat + thickness : dhat + thickness + bound_[fb];
+  ObstacleTrees const& trees = TreesOf(obstacleIndex);
+  DynamicArray<contact::Aabb>& boxes = boxScratch_;
+  DynamicArray<contact::IndexPair>& found = pairScratch_;
+  // body vertices against obstacle triangles, and free body vertices against
+  // free obstacle points (spheres) and segments (capsules)
+  boxes.clear();
+  for (int i = 0; i < nb; ++i) boxes.push_back(BoxOf(x_, {fb + i}, margin));
+  trees.triangles.FindPairsWith(boxes, found);
+  for (auto [t, i] : found) {
+    auto const& tri = obstacle.triangles_[t];
+    add(PairKind::PointTriangle, {fb + i, fo + tri[0], fo + tri[1], fo + tri[2]}, {true, false, false, false}, 4,
+        body.vertexArea_[i]);
   }
-  for (std::size_t i = 0; i < obstacle.local_.size(); ++i) {
-    int const vi = fo + static_cast<int>(i);
-    for (auto const& t : body.triangles_)
-      if (near({vi}, {fb + t[0], fb + t[1], fb + t[2]}))
-        add(PairKind::PointTriangle, {vi, fb + t[0], fb + t[1], fb + t[2]}, {false, true, true, true}, 4,
-            std::max(obstacle.vertexArea_[i], (x_[fb + t[1]] - x_[fb + t[0]]).cross(x_[fb + t[2]] - x_[fb + t[0]]).norm() / 2));
+  trees.edges.FindPairsWith(boxes, found);
+  for (auto [e, i] : found)
+    if (obstacle.freeEdge_[e] && body.freeVertex_[i])  // a vertex on an edge: edge–edge covers it
+      add(PairKind::PointEdge, {fb + i, fo + obstacle.edges_[e][0], fo + obstacle.edges_[e][1], -1},
+          {true, false, false, false}, 3, body.vertexArea_[i]);
+  trees.vertices.FindPairsWith(boxes, found);
+  for (auto [j, i] : found)
+    if (obstacle.freeVertex_[j] && body.freeVertex_[i])
+      add(PairKind::PointPoint, {fb + i, fo + j, -1, -1}, {true, false, false, false}, 2,
+          std::max(body.vertexArea_[i], obstacle.vertexArea_[j]));
+  // obstacle vertices against body triangles
+  boxes.clear();
+  for (auto const& t : body.triangles_) boxes.push_back(BoxOf(x_, {fb + t[0], fb + t[1], fb + t[2]}, margin));
+  trees.vertices.FindPairsWith(boxes, found);
+  for (auto [j, t] : found) {
+    auto const& tri = body.triangles_[t];
+    add(PairKind::PointTriangle, {fo + j, fb + tri[0], fb + tri[1], fb + tri[2]}, {false, true, true, true}, 4,
+        std::max(obstacle.vertexArea_[j], TriangleArea(x_[fb + tri[0]], x_[fb + tri[1]], x_[fb + tri[2]])));
   }
-  // edges against edges
-  for (std::size_t e = 0; e < body.edges_.size(); ++e) {
-    auto const [a0, a1] = body.edges_[e];
-    for (std::size_t f = 0; f < obstacle.edges_.size(); ++f) {
-      auto const [b0, b1] = obstacle.edges_[f];
-      if (near({fb + a0, fb + a1}, {fo + b0, fo + b1}))
-        add(PairKind::EdgeEdge, {fb + a0, fb + a1, fo + b0, fo + b1}, {true, true, false, false}, 4,
-            std::max(body.edgeArea_[e], obstacle.edgeArea_[f]));
-    }
-  }
-  // points against free edges (rods, capsules) and free points (spheres)
-  for (int i = 0; i < nb; ++i) {
-    for (std::size_t f = 0; f < obstacle.edges_.size(); ++f) {
-      // a vertex on an edge is covered by edge–edge (its point–edge types)
-      if (!obstacle.freeEdge_[f] || !body.freeVertex_[i]) continue;
-      auto const [b0, b1] = obstacle.edges_[f];
-      if (near({fb + i}, {fo + b0, fo + b1}))
-        add(PairKind::PointEdge, {fb + i, fo + b0, fo + b1, -1}, {true, false, false, false}, 3, body.vertexArea_[i]);
-    }
-  }
-  for (std::size_t i = 0; i < obstacle.local_.size(); ++i) {
-    if (!obstacle.freeVertex_[i]) continue;
-    int const vi = fo + static_cast<int>(i);
-    for (std::size_t e = 0; e < body.edges_.size(); ++e) {
-      if (!body.freeEdge_[e]) continue;
-      auto const [a0, a1] = body.edges_[e];
-      if (near({vi}, {fb + a0, fb + a1}))
-        add(PairKind::PointEdge, {vi, fb + a0, fb + a1, -1}, {false, true, true, false}, 3, body.edgeArea_[e]);
-    }
-    for (int j = 0; j < nb; ++j)
-      if (body.freeVertex_[j] && near({vi}, {fb + j}))
-        add(PairKind::PointPoint, {fb + j, vi, -1, -1}, {true, false, false, false}, 2,
-            std::max(body.vertexArea_[j], obstacle.vertexArea_[i]));
-  }
+  // edges against edges, and free obstacle points against free body segments
+  boxes.clear();
+  for (auto const& e : body.edges_) boxes.push_back(BoxOf(x_, {fb + e[0], fb + e[1]}, margin));
+  trees.edges.FindPairsWith(boxes, found);
+  for (auto [f, e] : found)
+    add(PairKind::EdgeEdge, {fb + body.edges_[e][0], fb + body.edges_[e][1], fo + obstacle.edges_[f][0],
+                             fo + obstacle.edges_[f][1]},
+        {true, true, false, false}, 4, std::max(body.edgeArea_[e], obstacle.edgeArea_[f]));
+  trees.vertices.FindPairsWith(boxes, found);
+  for (auto [j, e] : found)
+    if (obstacle.freeVertex_[j] && body.freeEdge_[e])
+      add(PairKind::PointEdge, {fo + j, fb + body.edges_[e][0], fb + body.edges_[e][1], -1},
+          {false, true, true, false}, 3, body.edgeArea_[e]);
 }
 
-// ---- geometry of one pair ----
+// ---- one pair ----
 
-real ContactSystem::Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12* gradient, Matrix12* hessian) const {
+real ContactSystem::Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12* gradient) const {
+  auto const& v = pair.v;
   if (pair.kind == PairKind::PlaneVertex) {
     Collider const& plane = *colliders_[pair.obstacle];
-    if (gradient) {
-      gradient->setZero();
-      gradient->head<3>() = plane.planeNormal_;
-    }
-    if (hessian) hessian->setZero();
-    return plane.planeNormal_.dot(x[pair.v[0]]) - plane.planeOffset_ - pair.thickness;
+    if (gradient) *gradient << plane.planeNormal_, Real3::Zero(), Real3::Zero(), Real3::Zero();
+    return plane.planeNormal_.dot(x[v[0]]) - plane.planeOffset_ - pair.thickness;
   }
-  auto const& v = pair.v;
   real d2 = 0;
   Vector12 g = Vector12::Zero();
-  Matrix12 H = Matrix12::Zero();
-  bool const derivatives = gradient || hessian;
   switch (pair.kind) {
     case PairKind::PointTriangle: {
       auto const type = contact::PointTriangleDistanceType(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
       d2 = contact::PointTriangleDistance2(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
-      if (derivatives) {
-        g = contact::PointTriangleDistance2Gradient(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
-        if (hessian) H = contact::PointTriangleDistance2Hessian(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
-      }
+      if (gradient) g = contact::PointTriangleDistance2Gradient(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
       break;
     }
     case PairKind::EdgeEdge: {
       auto const type = contact::EdgeEdgeDistanceType(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
       d2 = contact::EdgeEdgeDistance2(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
-      if (derivatives) {
-        g = contact::EdgeEdgeDistance2Gradient(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
-        if (hessian) H = contact::EdgeEdgeDistance2Hessian(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
-      }
+      if (gradient) g = contact::EdgeEdgeDistance2Gradient(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
       break;
     }
     case PairKind::PointEdge: {
       auto const type = contact::PointEdgeDistanceType(x[v[0]], x[v[1]], x[v[2]]);
       d2 = contact::PointEdgeDistance2(x[v[0]], x[v[1]], x[v[2]], type);
-      if (derivatives) {
-        g.head<9>() = contact::PointEdgeDistance2Gradient(x[v[0]], x[v[1]], x[v[2]], type);
-        if (hessian) H.topLeftCorner<9, 9>() = contact::PointEdgeDistance2Hessian(x[v[0]], x[v[1]], x[v[2]], type);
-      }
+      if (gradient) g.head<9>() = contact::PointEdgeDistance2Gradient(x[v[0]], x[v[1]], x[v[2]], type);
       break;
     }
-    case PairKind::PointPoint: {
+    case PairKind::PointPoint:
       d2 = contact::PointPointDistance2(x[v[0]], x[v[1]]);
-      if (derivatives) {
-        g.head<6>() = contact::PointPointDistance2Gradient(x[v[0]], x[v[1]]);
-        if (hessian) H.topLeftCorner<6, 6>() = contact::PointPointDistance2Hessian(x[v[0]], x[v[1]]);
-      }
+      if (gradient) g.head<6>() = contact::PointPointDistance2Gradient(x[v[0]], x[v[1]]);
       break;
-    }
     case PairKind::PlaneVertex: break;
   }
-  // d = sqrt(d²) − thickness
   real const d = std::sqrt(d2);
-  if (gradient || hessian) {
-    real const inv = d > 0 ? 1 / (2 * d) : 0;
-    if (gradient) *gradient = inv * g;
-    if (hessian) *hessian = inv * H - (2 * inv * inv * inv) * (g * g.transpose());
-  }
+  if (gradient) *gradient = d > 0 ? Vector12(g / (2 * d)) : Vector12::Zero();  // ∇d = ∇d²/(2d)
   return d - pair.thickness;
 }
 
+Real3 ContactSystem::Slip(Pair const& pair, DynamicArray<Real3> const& x) const {
+  Real3 slip = pair.slip0;
+  for (int k = 0; k < pair.numVertices; ++k) slip += pair.gamma[k] * (x[pair.v[k]] - x0_[pair.v[k]]);
+  return slip;
+}
+
 void ContactSystem::LagFriction(Pair& pair) const {
-  // the normal force at the stage start, and the tangent plane there
-  Vector12 grad;
-  real const d = Gap(pair, x0_, &grad, nullptr);
-  real const dhat = params_.activationDistance;
+  // the normal force at the stage start, the tangent plane there and the
+  // weights γ of the closest points: ∂d/∂xₖ = γₖ n (n from the obstacle
+  // towards the body)
   pair.lambda = 0;
-  pair.gamma = {0, 0, 0, 0};
-  pair.basis.setZero();
+  Vector12 grad;
+  real const d = Gap(pair, x0_, &grad);
+  real const dhat = params_.activationDistance;
   if (!(d > 0) || d >= dhat || pair.mu == 0) return;
-  real const kw = params_.stiffness * pair.weight;
-  pair.lambda = -kw * contact::BarrierDerivative(d / dhat);
-  // the normal: the gap's gradient on the first vertex, and the weights of
-  // each vertex in the relative displacement of the closest points: the
-  // gradient of d w.r.t. a vertex is (its weight)·n
-  Real3 n = Real3::Zero();
-  for (int k = 0; k < pair.numVertices; ++k) {
-    Real3 const gk = grad.segment<3>(3 * k);
-    if (gk.norm() > n.norm()) n = gk.normalized() * (pair.kind == PairKind::PlaneVertex || k == 0 ? 1 : 1);
-  }
-  // orient n from the obstacle side to the body side: along the body's gradient
   Real3 bodyGrad = Real3::Zero();
   for (int k = 0; k < pair.numVertices; ++k)
     if (pair.onBody[k]) bodyGrad += grad.segment<3>(3 * k);
   if (bodyGrad.norm() == 0) return;
-  n = bodyGrad.normalized();
-  pair.basis = TangentBasis(n);
-  for (int k = 0; k < pair.numVertices; ++k) {
-    // ∂d/∂x_k = γ_k n for the closest points' relative displacement
-    pair.gamma[k] = grad.segment<3>(3 * k).dot(n);
-  }
+  Real3 const n = bodyGrad.normalized();
+  pair.lambda = -params_.stiffness * pair.weight * contact::BarrierDerivative(d / dhat);
+  pair.basis = contact::PointPointTangentBasis(n, Real3::Zero());
+  for (int k = 0; k < pair.numVertices; ++k) pair.gamma[k] = grad.segment<3>(3 * k).dot(n);
   auto const it = anchors_.find(pair.key);
   pair.slip0 = it == anchors_.end() ? Real3::Zero() : Real3(pair.basis * (pair.basis.transpose() * it->second));
 }
 
-real ContactSystem::PairEnergy(Pair const& pair) const {
+namespace {
+/// The barrier of a pair of n coordinates, Hessian projected to PSD, in the
+/// first n of 12 coordinates.
+template <int n>
+contact::ValueGradientHessian<12> Embedded(contact::ValueGradientHessian<n> const& e) {
+  contact::ValueGradientHessian<12> r;
+  r.value = e.value;
+  r.gradient.head<n>() = e.gradient;
+  r.hessian.topLeftCorner<n, n>() = e.hessian;
+  return r;
+}
+}  // namespace
+
+contact::ValueGradientHessian<12> ContactSystem::PairEnergy(Pair const& pair, bool derivatives) const {
+  using contact::BarrierHessian;
+  contact::ValueGradientHessian<12> e;
   real const dhat = params_.activationDistance;
-  real const d = Gap(pair, x_, nullptr, nullptr);
-  if (!(d > 0)) return std::numeric_limits<real>::infinity();
-  real energy = 0;
-  if (d < dhat) energy += params_.stiffness * pair.weight * dhat * contact::Barrier(d / dhat);
-  if (pair.lambda > 0) {
-    Real3 slip = pair.slip0;
-    for (int k = 0; k < pair.numVertices; ++k) slip += pair.gamma[k] * (x_[pair.v[k]] - x0_[pair.v[k]]);
-    Eigen::Matrix<real, 2, 1> const u = pair.basis.transpose() * slip;
-    energy += pair.mu * pair.lambda * contact::FrictionRamp(u.norm(), params_.frictionRampWidth);
+  real const kw = params_.stiffness * pair.weight;
+  auto const& x = x_;
+  auto const& v = pair.v;
+  real const d = Gap(pair, x_);
+  if (!(d > 0)) {
+    e.value = std::numeric_limits<real>::infinity();
+    return e;
   }
-  return energy;
+  if (d < dhat && !derivatives) {
+    e.value = kw * dhat * contact::Barrier(d / dhat);
+    if (pair.kind == PairKind::EdgeEdge)
+      e.value *= contact::EdgeEdgeMollifier(x[v[0]], x[v[1]], x[v[2]], x[v[3]], pair.mollifierThreshold);
+  } else if (d < dhat) {
+    contact::BarrierParams const barrier{pair.thickness, dhat, kw};
+    switch (pair.kind) {
+      case PairKind::PlaneVertex: {
+        // the signed gap is linear in the vertex: a convex barrier of it
+        Real3 const& normal = colliders_[pair.obstacle]->planeNormal_;
+        e.value = kw * dhat * contact::Barrier(d / dhat);
+        e.gradient.head<3>() = kw * contact::BarrierDerivative(d / dhat) * normal;
+        e.hessian.topLeftCorner<3, 3>() =
+            (kw * contact::BarrierSecondDerivative(d / dhat) / dhat) * normal * normal.transpose();
+        break;
+      }
+      case PairKind::PointTriangle: {
+        auto const type = contact::PointTriangleDistanceType(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
+        e = contact::BarrierEnergy<12>(
+            contact::PointTriangleDistance2Derivatives(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type), barrier,
+            BarrierHessian::Projected);
+        break;
+      }
+      case PairKind::EdgeEdge: {
+        // the barrier times IPC's mollifier of nearly parallel edges, projected
+        auto const type = contact::EdgeEdgeDistanceType(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
+        auto const b = contact::BarrierEnergy<12>(
+            contact::EdgeEdgeDistance2Derivatives(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type), barrier,
+            BarrierHessian::Exact);
+        e = contact::Multiply(
+            contact::EdgeEdgeMollifierDerivatives(x[v[0]], x[v[1]], x[v[2]], x[v[3]], pair.mollifierThreshold), b);
+        e.hessian = contact::ProjectToPsd<12>(e.hessian);
+        break;
+      }
+      case PairKind::PointEdge: {
+        auto const type = contact::PointEdgeDistanceType(x[v[0]], x[v[1]], x[v[2]]);
+        e = Embedded<9>(contact::BarrierEnergy<9>(contact::PointEdgeDistance2Derivatives(x[v[0]], x[v[1]], x[v[2]], type),
+                                                  barrier, BarrierHessian::Projected));
+        break;
+      }
+      case PairKind::PointPoint: {
+        contact::ValueGradientHessian<6> q;
+        q.value = contact::PointPointDistance2(x[v[0]], x[v[1]]);
+        q.gradient = contact::PointPointDistance2Gradient(x[v[0]], x[v[1]]);
+        q.hessian = contact::PointPointDistance2Hessian(x[v[0]], x[v[1]]);
+        e = Embedded<6>(contact::BarrierEnergy<6>(q, barrier, BarrierHessian::Projected));
+        break;
+      }
+    }
+  }
+  if (pair.lambda > 0) {
+    // friction: PSD by construction, so the sum stays PSD
+    contact::TangentialFriction const f = contact::EvaluateTangentialFriction(
+        pair.basis.transpose() * Slip(pair, x_), pair.mu * pair.lambda, params_.frictionRampWidth);
+    e.value += f.energy;
+    if (derivatives) {
+      Real3 const force = pair.basis * f.gradient;
+      Real33 const stiffness = pair.basis * f.hessian * pair.basis.transpose();
+      for (int a = 0; a < pair.numVertices; ++a) {
+        e.gradient.segment<3>(3 * a) += pair.gamma[a] * force;
+        for (int b = 0; b < pair.numVertices; ++b)
+          e.hessian.block<3, 3>(3 * a, 3 * b) += pair.gamma[a] * pair.gamma[b] * stiffness;
+      }
+    }
+  }
+  return e;
 }
 
 // ---- the stage term ----
@@ -665,63 +704,24 @@ void ContactSystem::AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& 
 
 void ContactSystem::AddEnergy(HessianAssembler const&, int, EnergySum& sum) const {
   UpdatePositions(x_);
-  for (Pair const& pair : pairs_) sum.Add(PairEnergy(pair));
+  for (Pair const& pair : pairs_) sum.Add(PairEnergy(pair, false).value);
 }
 
 void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, AssemblyOptions const& options) const {
   UpdatePositions(x_);
-  real const dhat = params_.activationDistance;
-  real const kw0 = params_.stiffness;
   using DofVector = Eigen::Matrix<real, Eigen::Dynamic, 1, 0, 12, 1>;
   using DofMatrix = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 12>;
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     Pair const& pair = pairs_[p];
-    int const contributor = options.firstStageContributor + static_cast<int>(p);
-    // the energy's gradient and Hessian w.r.t. the pair's vertex positions
-    Vector12 gd;
-    Matrix12 Hd;
-    real const d = Gap(pair, x_, &gd, &Hd);
-    Vector12 g = Vector12::Zero();
-    Matrix12 H = Matrix12::Zero();
+    contact::ValueGradientHessian<12> const e = PairEnergy(pair, true);
     int const n = 3 * pair.numVertices;
-    if (d > 0 && d < dhat) {
-      real const kw = kw0 * pair.weight;
-      real const b1 = kw * contact::BarrierDerivative(d / dhat);
-      real const b2 = kw * contact::BarrierSecondDerivative(d / dhat) / dhat;
-      g += b1 * gd;
-      H += b2 * gd * gd.transpose() + b1 * Hd;
-    }
-    if (pair.lambda > 0) {
-      Real3 slip = pair.slip0;
-      for (int k = 0; k < pair.numVertices; ++k) slip += pair.gamma[k] * (x_[pair.v[k]] - x0_[pair.v[k]]);
-      Eigen::Matrix<real, 2, 1> const u = pair.basis.transpose() * slip;
-      contact::TangentialFriction const friction =
-          contact::EvaluateTangentialFriction(u, pair.mu * pair.lambda, params_.frictionRampWidth);
-      Real3 const f3 = pair.basis * friction.gradient;
-      Real33 const k3 = pair.basis * friction.hessian * pair.basis.transpose();
-      for (int a = 0; a < pair.numVertices; ++a) {
-        g.segment<3>(3 * a) += pair.gamma[a] * f3;
-        for (int b = 0; b < pair.numVertices; ++b) H.block<3, 3>(3 * a, 3 * b) += pair.gamma[a] * pair.gamma[b] * k3;
-      }
-    }
-    if (g.head(n).isZero(0) && H.topLeftCorner(n, n).isZero(0)) continue;
-    if (n == 3) {
-      Real33 const h3 = H.topLeftCorner<3, 3>();
-      Eigen::SelfAdjointEigenSolver<Real33> eigen(h3);
-      H.topLeftCorner<3, 3>() = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0).asDiagonal() *
-                                eigen.eigenvectors().transpose();
-    } else if (n == 6) {
-      H.topLeftCorner<6, 6>() = contact::ProjectToPsd<6>(H.topLeftCorner<6, 6>());
-    } else if (n == 9) {
-      H.topLeftCorner<9, 9>() = contact::ProjectToPsd<9>(H.topLeftCorner<9, 9>());
-    } else {
-      H = contact::ProjectToPsd<12>(H);
-    }
+    if (e.gradient.head(n).isZero(0) && e.hessian.topLeftCorner(n, n).isZero(0)) continue;
     // through the body's DoFs
     Collider const& body = *colliders_[pair.body];
     DofVector gq;
     DofMatrix Hq;
     if (body.rigid_) {
+      // x = c + R r: J = [I, −Hat(x − c)], and the rotation's curvature
       Eigen::Matrix<real, 12, 6> J = Eigen::Matrix<real, 12, 6>::Zero();
       Real3 const c = body.rigid_->GetPosition();
       Real33 curvature = Real33::Zero();
@@ -730,12 +730,13 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
         Real3 const arm = x_[pair.v[k]] - c;
         J.block<3, 3>(3 * k, 0) = Real33::Identity();
         J.block<3, 3>(3 * k, 3) = -Hat(arm);
-        curvature += RotatedVectorCurvature(g.segment<3>(3 * k), arm);
+        curvature += RotatedVectorCurvature(e.gradient.segment<3>(3 * k), arm);
       }
-      gq = J.topRows(n).transpose() * g.head(n);
-      Hq = J.topRows(n).transpose() * H.topLeftCorner(n, n) * J.topRows(n);
+      gq = J.topRows(n).transpose() * e.gradient.head(n);
+      Hq = J.topRows(n).transpose() * e.hessian.topLeftCorner(n, n) * J.topRows(n);
       if (!options.projectHessian) Hq.bottomRightCorner<3, 3>() += curvature;
     } else {
+      // a node's world position is T(X + u): J = R_T on its 3 DoFs
       Real33 const r = body.nodal_->GetTransformRotation().toRotationMatrix();
       int m = 0;
       std::array<int, 4> slot{};
@@ -744,11 +745,12 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
       gq.resize(3 * m);
       Hq.resize(3 * m, 3 * m);
       for (int a = 0; a < m; ++a) {
-        gq.segment<3>(3 * a) = r.transpose() * g.segment<3>(3 * slot[a]);
+        gq.segment<3>(3 * a) = r.transpose() * e.gradient.segment<3>(3 * slot[a]);
         for (int b = 0; b < m; ++b)
-          Hq.block<3, 3>(3 * a, 3 * b) = r.transpose() * H.block<3, 3>(3 * slot[a], 3 * slot[b]) * r;
+          Hq.block<3, 3>(3 * a, 3 * b) = r.transpose() * e.hessian.block<3, 3>(3 * slot[a], 3 * slot[b]) * r;
       }
     }
+    int const contributor = options.firstStageContributor + static_cast<int>(p);
     assembler.AddDynamicGradient(contributor, gq);
     assembler.AddDynamicBlock(contributor, Hq);
   }
@@ -768,7 +770,7 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
   for (int k = 0; k < pair.numVertices; ++k)
     if (pair.onBody[k]) armBound = std::max(armBound, (x_[pair.v[k]] - c).norm());
   real const speed = dt.norm() + dr.norm() * armBound;
-  real const gap0 = Gap(pair, x_, nullptr, nullptr);
+  real const gap0 = Gap(pair, x_);
   if (!(gap0 > 0)) return 0;
   if (speed == 0) return tMax;
   real const target = (1 - contact::kCcdRescale) * gap0;
@@ -779,12 +781,32 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
     Real33 const turn = ExpMatrix(t * dr);
     for (int k = 0; k < pair.numVertices; ++k)
       if (pair.onBody[k]) trial_[pair.v[k]] = c + t * dt + turn * (x_[pair.v[k]] - c);
-    real const gap = Gap(pair, trial_, nullptr, nullptr);
+    real const gap = Gap(pair, trial_);
     if (gap - target <= stop) return t;
     t += (gap - target) / speed;
     if (t >= tMax) return tMax;
   }
   return t;
+}
+
+real ContactSystem::LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x, real scale) const {
+  auto const& v = pair.v;
+  auto dx = [&](int k) -> Real3 { return displacement_[v[k]] * scale; };
+  real const thickness = pair.thickness;
+  switch (pair.kind) {
+    case PairKind::PlaneVertex: {
+      Collider const& plane = *colliders_[pair.obstacle];
+      return contact::PointPlaneCcd(x[v[0]], dx(0), thickness, plane.planeNormal_, plane.planeOffset_, 0, 1);
+    }
+    case PairKind::PointTriangle:
+      return contact::PointTriangleCcd(x[v[0]], x[v[1]], x[v[2]], x[v[3]], dx(0), dx(1), dx(2), dx(3), thickness, 1);
+    case PairKind::EdgeEdge:
+      return contact::EdgeEdgeCcd(x[v[0]], x[v[1]], x[v[2]], x[v[3]], dx(0), dx(1), dx(2), dx(3), thickness, 1);
+    case PairKind::PointEdge:
+      return contact::PointEdgeCcd(x[v[0]], x[v[1]], x[v[2]], dx(0), dx(1), dx(2), thickness, 1);
+    case PairKind::PointPoint: return contact::PointPointCcd(x[v[0]], x[v[1]], dx(0), dx(1), thickness, 1);
+  }
+  return 0;
 }
 
 real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
@@ -799,8 +821,7 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
       int const o = col.rigid_->GetDofOffset();
       Real3 const dt(delta[o], delta[o + 1], delta[o + 2]), dr(delta[o + 3], delta[o + 4], delta[o + 5]);
       Real3 const center = col.rigid_->GetPosition();
-      for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i)
-        displacement_[i] = dt + dr.cross(x_[i] - center);
+      for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) displacement_[i] = dt + dr.cross(x_[i] - center);
     } else if (col.nodal_) {
       Real33 const r = col.nodal_->GetTransformRotation().toRotationMatrix();
       int const o = col.nodal_->GetDofOffset(), stride = col.nodal_->GetNodeDofStride();
@@ -819,94 +840,42 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
     safe = std::min(safe, std::max(room, real(0)) / step);
   }
   // continuous collision detection of every candidate along the step
-  for (Pair const& pair : pairs_) {
-    auto const& v = pair.v;
-    Collider const& body = *colliders_[pair.body];
-    real t = 1;
-    if (body.rigid_) {
-      safe = RigidPairCcd(pair, delta, safe);
-      continue;
-    } else {
-      auto dx = [&](int k) -> Real3 { return displacement_[v[k]] * safe; };
-      real const thickness = pair.thickness;
-      switch (pair.kind) {
-        case PairKind::PlaneVertex: {
-          Collider const& plane = *colliders_[pair.obstacle];
-          t = contact::PointPlaneCcd(x_[v[0]], dx(0), thickness, plane.planeNormal_, plane.planeOffset_, 0, 1);
-          break;
-        }
-        case PairKind::PointTriangle:
-          t = contact::PointTriangleCcd(x_[v[0]], x_[v[1]], x_[v[2]], x_[v[3]], dx(0), dx(1), dx(2), dx(3), thickness,
-                                        1);
-          break;
-        case PairKind::EdgeEdge:
-          t = contact::EdgeEdgeCcd(x_[v[0]], x_[v[1]], x_[v[2]], x_[v[3]], dx(0), dx(1), dx(2), dx(3), thickness, 1);
-          break;
-        case PairKind::PointEdge:
-          t = contact::PointEdgeCcd(x_[v[0]], x_[v[1]], x_[v[2]], dx(0), dx(1), dx(2), thickness, 1);
-          break;
-        case PairKind::PointPoint: t = contact::PointPointCcd(x_[v[0]], x_[v[1]], dx(0), dx(1), thickness, 1); break;
-      }
-    }
-    safe *= t;
-  }
+  for (Pair const& pair : pairs_)
+    safe = colliders_[pair.body]->rigid_ ? RigidPairCcd(pair, delta, safe) : safe * LinearPairCcd(pair, x_, safe);
   return safe;
 }
 
 bool ContactSystem::AcceptsFirstIterate() const {
+  // the move from the stage start to the first iterate, as a linear step
   UpdatePositions(x_);
-  for (std::size_t i = 0; i < x_.size(); ++i)
-    if ((x_[i] - x0_[i]).norm() > bound_[i]) return false;
-  for (Pair const& pair : pairs_) {
-    auto const& v = pair.v;
-    auto dx = [&](int k) -> Real3 { return x_[v[k]] - x0_[v[k]]; };
-    real t = 1;
-    switch (pair.kind) {
-      case PairKind::PlaneVertex: {
-        Collider const& plane = *colliders_[pair.obstacle];
-        t = contact::PointPlaneCcd(x0_[v[0]], dx(0), pair.thickness, plane.planeNormal_, plane.planeOffset_, 0, 1);
-        break;
-      }
-      case PairKind::PointTriangle:
-        t = contact::PointTriangleCcd(x0_[v[0]], x0_[v[1]], x0_[v[2]], x0_[v[3]], dx(0), dx(1), dx(2), dx(3),
-                                      pair.thickness, 1);
-        break;
-      case PairKind::EdgeEdge:
-        t = contact::EdgeEdgeCcd(x0_[v[0]], x0_[v[1]], x0_[v[2]], x0_[v[3]], dx(0), dx(1), dx(2), dx(3),
-                                 pair.thickness, 1);
-        break;
-      case PairKind::PointEdge:
-        t = contact::PointEdgeCcd(x0_[v[0]], x0_[v[1]], x0_[v[2]], dx(0), dx(1), dx(2), pair.thickness, 1);
-        break;
-      case PairKind::PointPoint: t = contact::PointPointCcd(x0_[v[0]], x0_[v[1]], dx(0), dx(1), pair.thickness, 1); break;
-    }
-    if (t < 1) return false;
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    displacement_[i] = x_[i] - x0_[i];
+    if (displacement_[i].norm() > bound_[i]) return false;
   }
-  return true;
+  return std::all_of(pairs_.begin(), pairs_.end(),
+                     [&](Pair const& pair) { return LinearPairCcd(pair, x0_, 1) >= 1; });
 }
 
 // ---- the stage end ----
 
 void ContactSystem::EndStage() {
   UpdatePositions(x_);
-  std::unordered_map<std::uint64_t, Real3> anchors;
+  anchors_.clear();
   active_ = 0;
   minDistance_ = std::numeric_limits<real>::infinity();
   real const g = params_.frictionRampWidth;
   for (Pair const& pair : pairs_) {
-    real const d = Gap(pair, x_, nullptr, nullptr);
+    real const d = Gap(pair, x_);
     minDistance_ = std::min(minDistance_, d);
     if (d < params_.activationDistance) ++active_;
     if (pair.lambda <= 0) continue;
-    // the slip from the anchor; a sliding contact drags its anchor to ḡ behind
-    Real3 slip = pair.slip0;
-    for (int k = 0; k < pair.numVertices; ++k) slip += pair.gamma[k] * (x_[pair.v[k]] - x0_[pair.v[k]]);
-    slip = pair.basis * (pair.basis.transpose() * slip);
+    // the slip from the anchor on the tangent plane; a sliding contact drags
+    // its anchor to ḡ behind it
+    Real3 slip = pair.basis * (pair.basis.transpose() * Slip(pair, x_));
     real const norm = slip.norm();
     if (norm > g) slip *= g / norm;
-    anchors[pair.key] = slip;
+    anchors_[pair.key] = slip;
   }
-  anchors_ = std::move(anchors);
 }
 
 void ContactSystem::GetContacts(DynamicArray<ContactInfo>& contacts) const {
@@ -916,7 +885,7 @@ void ContactSystem::GetContacts(DynamicArray<ContactInfo>& contacts) const {
   real const dhat = params_.activationDistance;
   for (Pair const& pair : pairs_) {
     Vector12 grad;
-    real const d = Gap(pair, x, &grad, nullptr);
+    real const d = Gap(pair, x, &grad);
     if (!(d < dhat) || !(d > 0)) continue;
     ContactInfo info;
     info.colliderA = colliders_[pair.body]->id_;
@@ -933,17 +902,15 @@ void ContactSystem::GetContacts(DynamicArray<ContactInfo>& contacts) const {
       }
     }
     info.normal = bodyGrad.normalized();
-    info.point = obstacleWeight > 0 ? Real3(point / obstacleWeight) : Real3(x[pair.v[0]] - (d + pair.thickness) * info.normal);
+    info.point = obstacleWeight > 0 ? Real3(point / obstacleWeight)
+                                    : Real3(x[pair.v[0]] - (d + pair.thickness) * info.normal);
     info.distance = d;
     info.normalForce = -params_.stiffness * pair.weight * contact::BarrierDerivative(d / dhat);
-    if (pair.lambda > 0) {
-      Real3 slip = pair.slip0;
-      for (int k = 0; k < pair.numVertices; ++k) slip += pair.gamma[k] * (x[pair.v[k]] - x0_[pair.v[k]]);
-      Eigen::Matrix<real, 2, 1> const u = pair.basis.transpose() * slip;
-      contact::TangentialFriction const friction =
-          contact::EvaluateTangentialFriction(u, pair.mu * pair.lambda, params_.frictionRampWidth);
-      info.frictionForce = -(pair.basis * friction.gradient);
-    }
+    if (pair.lambda > 0)
+      info.frictionForce = -(pair.basis * contact::EvaluateTangentialFriction(pair.basis.transpose() * Slip(pair, x),
+                                                                               pair.mu * pair.lambda,
+                                                                               params_.frictionRampWidth)
+                                              .gradient);
     contacts.push_back(info);
   }
 }

@@ -25,7 +25,9 @@
 #include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/contact/collider.h>
+#include <superdex/contact/bvh.h>
 #include <superdex/contact/contact_params.h>
+#include <superdex/contact/distance.h>
 #include <superdex/stage/stage_term.h>
 
 namespace superdex {
@@ -54,6 +56,8 @@ class Collider {
   real GetFriction() const { return friction_; }
   int GetNumVertices() const { return static_cast<int>(local_.size()); }
   int GetNumTriangles() const { return static_cast<int>(triangles_.size()); }
+  /// Carried by an actor (a body), not a static obstacle.
+  bool Moves() const { return rigid_ != nullptr || nodal_ != nullptr; }
 
   /// Internal: geometry as the contact system reads it. Not part of the API.
   struct Vertex {
@@ -85,7 +89,6 @@ class Collider {
   DynamicArray<std::array<int, 3>> triangles_;
   DynamicArray<char> freeVertex_, freeEdge_;  ///< on no edge / on no triangle
   DynamicArray<real> vertexArea_, edgeArea_;  ///< area each stands for [m²]
-  real radiusBound_ = 0;  ///< rigid: max |local| (rotation's displacement bound)
 };
 
 namespace internal {
@@ -135,6 +138,7 @@ class ContactSystem final : public StageTerm {
     std::array<bool, 4> onBody{false, false, false, false};
     int numVertices = 0;
     real thickness = 0, weight = 0, mu = 0;
+    real mollifierThreshold = 0;  ///< edge–edge: IPC's ε× from the stage-start lengths
     std::uint64_t key = 0;
     // lagged at the stage start
     real lambda = 0;
@@ -144,36 +148,59 @@ class ContactSystem final : public StageTerm {
   };
 
  private:
+  using Vector12 = contact::LocalVector<12>;
+  /// A static obstacle's primitives in bounding-volume trees (built once).
+  struct ObstacleTrees {
+    contact::Bvh triangles, edges, vertices;
+  };
+
+  /// The shape's vertices (and a Plane's normal, a Box's triangles),
+  /// validated; SetPrimitives then its triangles, edges and areas.
+  static bool MakeShape(ColliderParams const& params, Collider& collider,
+                        DynamicArray<std::array<int, 3>>& triangles, Error& error);
+  bool SetPrimitives(Collider& collider, DynamicArray<std::array<int, 3>> triangles, Error& error) const;
+  /// The colliders' groups and masks let them touch.
+  static bool Touch(Collider const& a, Collider const& b);
   /// Vertex numbering and positions (x_ = x0_) of the current colliders.
   void PrepareVertices();
   /// InvalidArgument naming both colliders where collider `index` starts at
   /// or below zero gap with another it may touch.
   bool CheckSeparated(int index, Error& error);
   void UpdatePositions(DynamicArray<Real3>& x) const;
-  void FindCandidates();
+  ObstacleTrees const& TreesOf(int obstacleIndex);
+  /// Appends the candidate pairs of a body and an obstacle (vertices within
+  /// the body's displacement bound, d̂ and the thickness).
   void AddPairs(int body, int obstacle);
   void LagFriction(Pair& pair) const;
-  /// Gap (distance less thickness), and with `gradient` its derivative
-  /// w.r.t. the pair's vertex positions (3·numVertices) and Hessian.
-  real Gap(Pair const& pair, DynamicArray<Real3> const& x, Eigen::Matrix<real, 12, 1>* gradient,
-           Eigen::Matrix<real, 12, 12>* hessian) const;
-  real PairEnergy(Pair const& pair) const;
-  /// The safe fraction (≤ tMax) of a rigid body's step δ for one pair
-  /// (conservative advancement on the vertices' arcs; t in units of δ).
+  /// The gap (distance less thickness; signed against a plane) at
+  /// positions x, and with `gradient` its derivative w.r.t. the pair's
+  /// vertices (3·numVertices of 12).
+  real Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12* gradient = nullptr) const;
+  /// The slip from the pair's anchor at positions x (world, not projected).
+  Real3 Slip(Pair const& pair, DynamicArray<Real3> const& x) const;
+  /// Barrier and friction energy of the pair at x_ and, with `derivatives`,
+  /// its gradient and (PSD) Hessian w.r.t. the pair's vertex positions.
+  contact::ValueGradientHessian<12> PairEnergy(Pair const& pair, bool derivatives) const;
+  /// The safe fraction of a linear move of the pair's vertices from x by
+  /// scale · displacement_ (CCD; in [0, 1]).
+  real LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x, real scale) const;
+  /// The safe step (≤ tMax, in units of δ) of a rigid body's step δ for one
+  /// pair: conservative advancement on the vertices' arcs.
   real RigidPairCcd(Pair const& pair, Span<real const> delta, real tMax) const;
   void PairDofs(Pair const& pair, DynamicArray<int>& dofs) const;
 
   ContactParams params_;
   DynamicArray<std::unique_ptr<Collider>> colliders_;
   int nextId_ = 0;
-  // all vertices of all colliders, concatenated (firstVertex_[c] …)
-  DynamicArray<int> firstVertex_, vertexCollider_;
+  DynamicArray<int> firstVertex_;        ///< every collider's vertices, concatenated
   mutable DynamicArray<Real3> x_;        ///< current positions (refreshed per evaluation)
   DynamicArray<Real3> x0_;               ///< stage start
-  DynamicArray<real> bound_;             ///< per vertex displacement bound [m]
+  DynamicArray<real> bound_;             ///< per vertex displacement bound for the stage [m]
   DynamicArray<Pair> pairs_;
+  DynamicArray<std::unique_ptr<ObstacleTrees>> trees_;  ///< per collider (obstacles only)
+  DynamicArray<contact::Aabb> boxScratch_;
+  DynamicArray<contact::IndexPair> pairScratch_;
   std::unordered_map<std::uint64_t, Real3> anchors_, savedAnchors_;
-  StageContext stage_;
   mutable DynamicArray<Real3> displacement_, trial_;
   int active_ = 0;
   real minDistance_ = 0;

@@ -13,6 +13,7 @@
 // (d) the friction energy in u and through Tᵀ Γ: derivatives against central
 //     differences, PSD Hessians, the Coulomb bound, rigid translations.
 #include "test_support.h"
+#include "contact/contact_test_support.h"
 
 #include <superdex/contact/barrier.h>
 
@@ -43,56 +44,6 @@ constexpr real kInfinity = std::numeric_limits<real>::infinity();
 constexpr real kFdRelativeStep = 1e-6;
 constexpr real kFdTol = 1e-6;
 
-template <int n>
-using Vec = LocalVector<n>;
-template <int n>
-using Mat = LocalMatrix<n>;
-
-real MaxAbs(MatrixX const& a) {
-  return a.cwiseAbs().maxCoeff();
-}
-real RelativeError(MatrixX const& a, MatrixX const& b) {
-  return MaxAbs(a - b) / MaxAbs(a);
-}
-
-template <int n>
-Real3 Node(Vec<n> const& x, int i) {
-  return x.template segment<3>(3 * i);
-}
-
-Real3 RandomPoint(std::mt19937& rng) {
-  std::uniform_real_distribution<real> uniform(-1, 1);
-  return Real3(uniform(rng), uniform(rng), uniform(rng));
-}
-
-real Uniform(std::mt19937& rng, real lo, real hi) {
-  return std::uniform_real_distribution<real>(lo, hi)(rng);
-}
-
-template <int n, class F>
-Vec<n> CentralGradient(F const& f, Vec<n> const& x, real step) {
-  Vec<n> g;
-  for (int i = 0; i < n; ++i) {
-    Vec<n> xp = x, xm = x;
-    xp[i] += step;
-    xm[i] -= step;
-    g[i] = (f(xp) - f(xm)) / (2 * step);
-  }
-  return g;
-}
-
-template <int n, class G>
-Mat<n> CentralJacobian(G const& grad, Vec<n> const& x, real step) {
-  Mat<n> j;
-  for (int i = 0; i < n; ++i) {
-    Vec<n> xp = x, xm = x;
-    xp[i] += step;
-    xm[i] -= step;
-    j.col(i) = (grad(xp) - grad(xm)) / (2 * step);
-  }
-  return j;
-}
-
 // `f` returns ValueGradientHessian<n> at x; its gradient is checked against
 // central differences of its value, its Hessian against central differences
 // of its gradient.
@@ -111,36 +62,16 @@ void RequireDerivatives(F const& f, Vec<n> const& x, real step) {
   REQUIRE(hessianError <= kFdTol);
 }
 
-real Sin2(Real3 const& a, Real3 const& b) {
-  return a.cross(b).squaredNorm() / (a.squaredNorm() * b.squaredNorm());
-}
-
-// Well-conditioned random pairs (edges >= 0.3, sine² of angles >= 0.05, see
-// distance_test.cpp) as 12 coordinates (p, t0, t1, t2) or (ea0, ea1, eb0, eb1).
+// Well-conditioned random pairs (contact_test_support.h) as 12 coordinates
+// (p, t0, t1, t2) or (ea0, ea1, eb0, eb1).
 Vec<12> RandomPointTriangle(std::mt19937& rng) {
-  for (;;) {
-    std::array<Real3, 3> const t = {RandomPoint(rng), RandomPoint(rng), RandomPoint(rng)};
-    bool ok = true;
-    for (int i = 0; i < 3; ++i) {
-      Real3 const a = t[(i + 1) % 3] - t[i], b = t[(i + 2) % 3] - t[i];
-      ok = ok && a.norm() >= 0.3 && Sin2(a, b) >= 0.05;
-    }
-    if (!ok) continue;
-    Real3 const u = t[1] - t[0], v = t[2] - t[0];
-    Real3 const p = t[0] + Uniform(rng, -1, 2) * u + Uniform(rng, -1, 2) * v +
-                    Uniform(rng, -1, 1) * u.cross(v).normalized();
-    Vec<12> x;
-    x << p, t[0], t[1], t[2];
-    return x;
-  }
+  std::array<Real3, 3> const t = RandomTriangle(rng);
+  Real3 const p = RandomPointNear(rng, t);
+  return Pack(p, t[0], t[1], t[2]);
 }
-Vec<12> RandomEdgePair(std::mt19937& rng) {
-  for (;;) {
-    Vec<12> x;
-    x << RandomPoint(rng), RandomPoint(rng), RandomPoint(rng), RandomPoint(rng);
-    Real3 const a = Node(x, 1) - Node(x, 0), b = Node(x, 3) - Node(x, 2);
-    if (a.norm() >= 0.3 && b.norm() >= 0.3 && Sin2(a, b) >= 0.05) return x;
-  }
+Vec<12> RandomEdgePairCoordinates(std::mt19937& rng) {
+  std::array<Real3, 4> const e = RandomEdgePair(rng);
+  return Pack(e[0], e[1], e[2], e[3]);
 }
 
 // Barrier parameters that make the pair at squared distance d2 active with
@@ -155,12 +86,6 @@ BarrierParams ActiveParams(std::mt19937& rng, real d2) {
   return params;
 }
 
-// Every one of the `types` enumerators has `count` entries in `seen`.
-bool AllReached(std::map<int, int> const& seen, int types, int count) {
-  for (int t = 0; t < types; ++t)
-    if (!seen.contains(t) || seen.at(t) < count) return false;
-  return true;
-}
 
 template <int n>
 real MinEigenvalue(Mat<n> const& a) {
@@ -318,7 +243,7 @@ TEST_CASE(
     std::mt19937 rng(72);
     std::map<int, int> checked;
     for (int draws = 0; draws < 100000 && !AllReached(checked, 9, 4); ++draws) {
-      Vec<12> const x = RandomEdgePair(rng);
+      Vec<12> const x = RandomEdgePairCoordinates(rng);
       auto const type = EdgeEdgeDistanceType(Node(x, 0), Node(x, 1), Node(x, 2), Node(x, 3));
       real const d2 = EdgeEdgeDistance2(Node(x, 0), Node(x, 1), Node(x, 2), Node(x, 3), type);
       if (d2 < 0.01 || checked[static_cast<int>(type)] >= 4) continue;
@@ -579,7 +504,7 @@ TEST_CASE("Friction energy through T^T Gamma: derivatives, PSD, no cost for rigi
     checkFrame(
         PointTriangleTangentFrame(Node(pt, 0), Node(pt, 1), Node(pt, 2), Node(pt, 3), ptType), dx);
 
-    Vec<12> const ee = RandomEdgePair(rng);
+    Vec<12> const ee = RandomEdgePairCoordinates(rng);
     auto const eeType = EdgeEdgeDistanceType(Node(ee, 0), Node(ee, 1), Node(ee, 2), Node(ee, 3));
     ++seenEe[static_cast<int>(eeType)];
     randomDisplacement(dx);

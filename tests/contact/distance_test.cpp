@@ -21,6 +21,7 @@
 // Positions are O(1) (random in [−1, 1]³), so squared distances and their
 // derivatives are O(1) to O(100) after the conditioning filters below.
 #include "test_support.h"
+#include "contact/contact_test_support.h"
 
 #include <superdex/contact/distance.h>
 
@@ -53,58 +54,6 @@ constexpr real kFdTol = 1e-6;
 // scale; 1e-12 of max(value, 1) leaves three decades.
 constexpr real kValueTol = 1e-12;
 
-template <int n>
-using Vec = LocalVector<n>;
-template <int n>
-using Mat = LocalMatrix<n>;
-
-template <int n>
-Real3 Node(Vec<n> const& x, int i) {
-  return x.template segment<3>(3 * i);
-}
-
-Real3 RandomPoint(std::mt19937& rng, real scale = 1) {
-  std::uniform_real_distribution<real> uniform(-scale, scale);
-  return Real3(uniform(rng), uniform(rng), uniform(rng));
-}
-
-real Uniform(std::mt19937& rng, real lo, real hi) {
-  return std::uniform_real_distribution<real>(lo, hi)(rng);
-}
-
-real MaxAbs(MatrixX const& a) {
-  return a.cwiseAbs().maxCoeff();
-}
-
-// max |a − b| relative to the largest entry of the analytic `a`.
-real RelativeError(MatrixX const& a, MatrixX const& b) {
-  return MaxAbs(a - b) / MaxAbs(a);
-}
-
-template <int n, class F>
-Vec<n> CentralGradient(F const& f, Vec<n> const& x) {
-  Vec<n> g;
-  for (int i = 0; i < n; ++i) {
-    Vec<n> xp = x, xm = x;
-    xp[i] += kFdStep;
-    xm[i] -= kFdStep;
-    g[i] = (f(xp) - f(xm)) / (2 * kFdStep);
-  }
-  return g;
-}
-
-template <int n, class G>
-Mat<n> CentralJacobian(G const& grad, Vec<n> const& x) {
-  Mat<n> j;
-  for (int i = 0; i < n; ++i) {
-    Vec<n> xp = x, xm = x;
-    xp[i] += kFdStep;
-    xm[i] -= kFdStep;
-    j.col(i) = (grad(xp) - grad(xm)) / (2 * kFdStep);
-  }
-  return j;
-}
-
 // The analytic gradient against central differences of `value`, the
 // analytic Hessian against central differences of the analytic gradient;
 // both non-zero and symmetric Hessian.
@@ -116,55 +65,12 @@ void RequireDerivatives(Value const& value, Gradient const& gradient, Hessian co
   CAPTURE(x.transpose());
   REQUIRE(MaxAbs(g) > 0);
   REQUIRE(MaxAbs(h) > 0);
-  real const gradientError = RelativeError(g, CentralGradient<n>(value, x));
-  real const hessianError = RelativeError(h, CentralJacobian<n>(gradient, x));
+  real const gradientError = RelativeError(g, CentralGradient<n>(value, x, kFdStep));
+  real const hessianError = RelativeError(h, CentralJacobian<n>(gradient, x, kFdStep));
   CAPTURE(gradientError, hessianError);
   REQUIRE(gradientError <= kFdTol);
   REQUIRE(hessianError <= kFdTol);
   REQUIRE(MaxAbs(h - h.transpose()) <= 1e-14 * MaxAbs(h));
-}
-
-// The sine² of the angle between a and b.
-real Sin2(Real3 const& a, Real3 const& b) {
-  return a.cross(b).squaredNorm() / (a.squaredNorm() * b.squaredNorm());
-}
-
-// A triangle with edges >= 0.3 and sine² of every angle >= 0.05, so that
-// every feature's distance is well conditioned for central differences.
-std::array<Real3, 3> RandomTriangle(std::mt19937& rng) {
-  for (;;) {
-    std::array<Real3, 3> const t = {RandomPoint(rng), RandomPoint(rng), RandomPoint(rng)};
-    bool ok = true;
-    for (int i = 0; i < 3; ++i) {
-      Real3 const a = t[(i + 1) % 3] - t[i], b = t[(i + 2) % 3] - t[i];
-      ok = ok && a.norm() >= 0.3 && Sin2(a, b) >= 0.05;
-    }
-    if (ok) return t;
-  }
-}
-
-// A point around the triangle: barycentric coordinates in [−1, 2] (so every
-// feature is closest for some) and an offset along the normal in [−1, 1].
-Real3 RandomPointNear(std::mt19937& rng, std::array<Real3, 3> const& t) {
-  Real3 const u = t[1] - t[0], v = t[2] - t[0];
-  Real3 const n = u.cross(v).normalized();
-  return t[0] + Uniform(rng, -1, 2) * u + Uniform(rng, -1, 2) * v + Uniform(rng, -1, 1) * n;
-}
-
-// Two segments with lengths >= 0.3 and sine² of the angle >= 0.05.
-std::array<Real3, 4> RandomEdgePair(std::mt19937& rng) {
-  for (;;) {
-    std::array<Real3, 4> const e = {RandomPoint(rng), RandomPoint(rng), RandomPoint(rng),
-                                    RandomPoint(rng)};
-    Real3 const a = e[1] - e[0], b = e[3] - e[2];
-    if (a.norm() >= 0.3 && b.norm() >= 0.3 && Sin2(a, b) >= 0.05) return e;
-  }
-}
-
-Vec<12> Pack(Real3 const& a, Real3 const& b, Real3 const& c, Real3 const& d) {
-  Vec<12> x;
-  x << a, b, c, d;
-  return x;
 }
 
 // The squared distance from p to the closed segment (a, b) by sampling
@@ -174,13 +80,6 @@ real SampledPointSegmentDistance(Real3 const& p, Real3 const& a, Real3 const& b,
   for (int i = 0; i <= samples; ++i)
     best = std::min(best, (p - (a + (b - a) * (real(i) / samples))).norm());
   return best;
-}
-
-// Every one of the `types` enumerators has `count` entries in `seen`.
-bool AllReached(std::map<int, int> const& seen, int types, int count) {
-  for (int t = 0; t < types; ++t)
-    if (!seen.contains(t) || seen.at(t) < count) return false;
-  return true;
 }
 
 int ToInt(PointTriangleType t) {
