@@ -559,6 +559,9 @@ real ContactSystem::Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12
 }
 
 Real3 ContactSystem::Slip(Pair const& pair, DynamicArray<Real3> const& x) const {
+  RigidActor const* rigid = colliders_[pair.body]->rigid_;
+  if (rigid)  // the contact point's displacement at the stage's velocities, Δc + φ × a⁰
+    return pair.slip0 + rigid->GetPosition() - pair.center0 + StageTurn(pair, *rigid).cross(pair.arm0);
   Real3 slip = pair.slip0;
   for (int k = 0; k < pair.numVertices; ++k) slip += pair.gamma[k] * (x[pair.v[k]] - x0_[pair.v[k]]);
   return slip;
@@ -581,6 +584,17 @@ void ContactSystem::LagFriction(Pair& pair) const {
   pair.lambda = -params_.stiffness * pair.weight * contact::BarrierDerivative(d / dhat);
   pair.basis = contact::PointPointTangentBasis(n, Real3::Zero());
   for (int k = 0; k < pair.numVertices; ++k) pair.gamma[k] = grad.segment<3>(3 * k).dot(n);
+  // the body's point at the contact: its closest point less its thickness
+  // along n (a sphere's contact point, not its centre)
+  Collider const& body = *colliders_[pair.body];
+  pair.contactPoint0 = -body.thickness_ * n;
+  for (int k = 0; k < pair.numVertices; ++k)
+    if (pair.onBody[k]) pair.contactPoint0 += pair.gamma[k] * x0_[pair.v[k]];
+  if (body.rigid_) {
+    pair.center0 = body.rigid_->GetPosition();
+    pair.rotation0 = body.rigid_->GetRotation();
+    pair.arm0 = pair.contactPoint0 - pair.center0;
+  }
   auto const it = anchors_.find(pair.key);
   pair.slip0 = it == anchors_.end() ? Real3::Zero() : Real3(pair.basis * (pair.basis.transpose() * it->second));
 }
@@ -598,7 +612,7 @@ contact::ValueGradientHessian<12> Embedded(contact::ValueGradientHessian<n> cons
 }
 }  // namespace
 
-contact::ValueGradientHessian<12> ContactSystem::PairEnergy(Pair const& pair, bool derivatives) const {
+contact::ValueGradientHessian<12> ContactSystem::PairBarrier(Pair const& pair, bool derivatives) const {
   using contact::BarrierHessian;
   contact::ValueGradientHessian<12> e;
   real const dhat = params_.activationDistance;
@@ -660,22 +674,17 @@ contact::ValueGradientHessian<12> ContactSystem::PairEnergy(Pair const& pair, bo
       }
     }
   }
-  if (pair.lambda > 0) {
-    // friction: PSD by construction, so the sum stays PSD
-    contact::TangentialFriction const f = contact::EvaluateTangentialFriction(
-        pair.basis.transpose() * Slip(pair, x_), pair.mu * pair.lambda, params_.frictionRampWidth);
-    e.value += f.energy;
-    if (derivatives) {
-      Real3 const force = pair.basis * f.gradient;
-      Real33 const stiffness = pair.basis * f.hessian * pair.basis.transpose();
-      for (int a = 0; a < pair.numVertices; ++a) {
-        e.gradient.segment<3>(3 * a) += pair.gamma[a] * force;
-        for (int b = 0; b < pair.numVertices; ++b)
-          e.hessian.block<3, 3>(3 * a, 3 * b) += pair.gamma[a] * pair.gamma[b] * stiffness;
-      }
-    }
-  }
   return e;
+}
+
+Real3 ContactSystem::StageTurn(Pair const& pair, RigidActor const& rigid) {
+  return Log(rigid.GetRotation() * pair.rotation0.conjugate());
+}
+
+contact::TangentialFriction ContactSystem::PairFriction(Pair const& pair, DynamicArray<Real3> const& x) const {
+  if (pair.lambda <= 0) return {};
+  return contact::EvaluateTangentialFriction(pair.basis.transpose() * Slip(pair, x), pair.mu * pair.lambda,
+                                             params_.frictionRampWidth);
 }
 
 // ---- the stage term ----
@@ -704,7 +713,7 @@ void ContactSystem::AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& 
 
 void ContactSystem::AddEnergy(HessianAssembler const&, int, EnergySum& sum) const {
   UpdatePositions(x_);
-  for (Pair const& pair : pairs_) sum.Add(PairEnergy(pair, false).value);
+  for (Pair const& pair : pairs_) sum.Add(PairBarrier(pair, false).value + PairFriction(pair, x_).energy);
 }
 
 void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, AssemblyOptions const& options) const {
@@ -713,9 +722,21 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
   using DofMatrix = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 12>;
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     Pair const& pair = pairs_[p];
-    contact::ValueGradientHessian<12> const e = PairEnergy(pair, true);
+    contact::ValueGradientHessian<12> e = PairBarrier(pair, true);
     int const n = 3 * pair.numVertices;
-    if (e.gradient.head(n).isZero(0) && e.hessian.topLeftCorner(n, n).isZero(0)) continue;
+    // friction, PSD by construction (so the sum with the projected barrier
+    // stays PSD): in the vertices' coordinates for a nodal body, at the
+    // contact's material point for a rigid one (below)
+    contact::TangentialFriction const friction = PairFriction(pair, x_);
+    Real3 const force = pair.basis * friction.gradient;
+    Real33 const stiffness = pair.basis * friction.hessian * pair.basis.transpose();
+    if (colliders_[pair.body]->nodal_ && pair.lambda > 0)
+      for (int a = 0; a < pair.numVertices; ++a) {
+        e.gradient.segment<3>(3 * a) += pair.gamma[a] * force;
+        for (int b = 0; b < pair.numVertices; ++b)
+          e.hessian.block<3, 3>(3 * a, 3 * b) += pair.gamma[a] * pair.gamma[b] * stiffness;
+      }
+    if (e.gradient.head(n).isZero(0) && e.hessian.topLeftCorner(n, n).isZero(0) && pair.lambda <= 0) continue;
     // through the body's DoFs
     Collider const& body = *colliders_[pair.body];
     DofVector gq;
@@ -734,6 +755,14 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
       }
       gq = J.topRows(n).transpose() * e.gradient.head(n);
       Hq = J.topRows(n).transpose() * e.hessian.topLeftCorner(n, n) * J.topRows(n);
+      if (pair.lambda > 0) {
+        // ∂slip/∂(δt, δθ) = [I, −Hat(a⁰) J_l⁻¹(φ)] (the chart's curvature
+        // dropped: the slip is nearly linear in φ over a stage)
+        Eigen::Matrix<real, 3, 6> Jf;
+        Jf << Real33::Identity(), -Hat(pair.arm0) * LeftJacobianInverse(StageTurn(pair, *body.rigid_));
+        gq += Jf.transpose() * force;
+        Hq += Jf.transpose() * stiffness * Jf;
+      }
       if (!options.projectHessian) Hq.bottomRightCorner<3, 3>() += curvature;
     } else {
       // a node's world position is T(X + u): J = R_T on its 3 DoFs
@@ -906,11 +935,7 @@ void ContactSystem::GetContacts(DynamicArray<ContactInfo>& contacts) const {
                                     : Real3(x[pair.v[0]] - (d + pair.thickness) * info.normal);
     info.distance = d;
     info.normalForce = -params_.stiffness * pair.weight * contact::BarrierDerivative(d / dhat);
-    if (pair.lambda > 0)
-      info.frictionForce = -(pair.basis * contact::EvaluateTangentialFriction(pair.basis.transpose() * Slip(pair, x),
-                                                                               pair.mu * pair.lambda,
-                                                                               params_.frictionRampWidth)
-                                              .gradient);
+    info.frictionForce = -(pair.basis * PairFriction(pair, x).gradient);
     contacts.push_back(info);
   }
 }

@@ -25,6 +25,7 @@
 #include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/contact/collider.h>
+#include <superdex/contact/barrier.h>
 #include <superdex/contact/bvh.h>
 #include <superdex/contact/contact_params.h>
 #include <superdex/contact/distance.h>
@@ -145,6 +146,11 @@ class ContactSystem final : public StageTerm {
     Eigen::Matrix<real, 3, 2> basis = Eigen::Matrix<real, 3, 2>::Zero();
     std::array<real, 4> gamma{0, 0, 0, 0};  ///< relative displacement weights
     Real3 slip0 = Real3::Zero();            ///< anchor offset at the stage start
+    Real3 contactPoint0 = Real3::Zero();    ///< the body's point at the contact, stage start
+    // a rigid body at the stage start: centre, rotation, arm of the contact point
+    Real3 center0 = Real3::Zero();
+    Quat rotation0 = Quat::Identity();
+    Real3 arm0 = Real3::Zero();
   };
 
  private:
@@ -178,9 +184,14 @@ class ContactSystem final : public StageTerm {
   real Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12* gradient = nullptr) const;
   /// The slip from the pair's anchor at positions x (world, not projected).
   Real3 Slip(Pair const& pair, DynamicArray<Real3> const& x) const;
-  /// Barrier and friction energy of the pair at x_ and, with `derivatives`,
-  /// its gradient and (PSD) Hessian w.r.t. the pair's vertex positions.
-  contact::ValueGradientHessian<12> PairEnergy(Pair const& pair, bool derivatives) const;
+  /// The barrier energy of the pair at x_ and, with `derivatives`, its
+  /// gradient and (PSD) Hessian w.r.t. the pair's vertex positions.
+  contact::ValueGradientHessian<12> PairBarrier(Pair const& pair, bool derivatives) const;
+  /// The friction energy at positions x, its gradient and Hessian in the
+  /// tangential slip u (zero without a lagged normal force).
+  contact::TangentialFriction PairFriction(Pair const& pair, DynamicArray<Real3> const& x) const;
+  /// A rigid body's rotation since the stage start, φ = Log(R R⁰ᵀ) (world).
+  static Real3 StageTurn(Pair const& pair, RigidActor const& rigid);
   /// The safe fraction of a linear move of the pair's vertices from x by
   /// scale · displacement_ (CCD; in [0, 1]).
   real LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x, real scale) const;

@@ -131,6 +131,8 @@ class Scene : private internal::ActorLookup {
   /// nullptr and an Error naming the field (or both colliders) on bad input.
   Collider* CreateCollider(ColliderParams const& params, Error& error);
   int GetNumColliders() const { return contact_.GetNumColliders(); }
+  /// The collider of that id, or nullptr (never created, or destroyed with its actor).
+  Collider const* GetCollider(int id) const { return contact_.GetCollider(id); }
   /// The contacts closer than the activation distance at the last step's end.
   void GetContacts(DynamicArray<ContactInfo>& contacts) const { contact_.GetContacts(contacts); }
 

@@ -21,6 +21,7 @@ void DefineLinearSolver(py::module_& m);
 void DefineOrdering(py::module_& m);
 // scene/ (parameters; the Scene class comes last)
 void DefineIntegrator(py::module_& m);
+void DefineContact(py::module_& m);
 void DefineSceneParams(py::module_& m);
 // actors/
 void DefineActor(py::module_& m);

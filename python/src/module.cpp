@@ -20,6 +20,7 @@ PYBIND11_MODULE(mochi, m) {
   DefineLinearSolver(m);
   DefineOrdering(m);
   DefineIntegrator(m);
+  DefineContact(m);
   DefineSceneParams(m);
   DefineActor(m);
   DefineNodalActor(m);

@@ -572,7 +572,7 @@ TEST_CASE("The iteration cap returns the last advanced time, which is safe", "[c
 }
 
 TEST_CASE("Random trajectories: t* keeps the target gap and stops where additive CCD must",
-          "[contact][ccd]") {
+          "[long][contact][ccd]") {
   // Every trial checks, with the start gap g(0) > 0:
   //  - safety: g ≥ g* at 1000 times evenly over [0, t*] and at t*;
   //  - the window: t* ≥ t_η, the first time g falls to g* + η·s·g(0) (the

@@ -11,7 +11,7 @@
 using namespace superdex;
 using namespace superdex::test;
 
-TEST_CASE("a pivot target moved along a circle drags the body along it", "[scene][target]") {
+TEST_CASE("a pivot target moved along a circle drags the body along it", "[long][scene][target]") {
   // m ẍ = −k (x − p) − d (ẋ − ṗ), p = ρ (cos Ωt, sin Ωt, 0): the error
   // e = x − p has the steady amplitude |e| = ρ m Ω² / √((k − mΩ²)² + (dΩ)²)
   real const mass = 1, stiffness = 400, damping = 10, radius = 0.2;
@@ -58,7 +58,7 @@ TEST_CASE("a pivot target moved along a circle drags the body along it", "[scene
   REQUIRE(std::abs(largest - expected) <= 0.01 * expected);
 }
 
-TEST_CASE("a rotation target spun at a constant rate spins the body at that rate", "[scene][target]") {
+TEST_CASE("a rotation target spun at a constant rate spins the body at that rate", "[long][scene][target]") {
   real const rate = 3;  // [rad/s] about world z
   real const dt = 1e-3;
   SceneParams params;

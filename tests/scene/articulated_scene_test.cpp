@@ -81,7 +81,7 @@ std::array<real, 2> ArticulatedAtEnd(IntegratorType integrator, real dt) {
 }  // namespace
 
 TEST_CASE("articulated double pendulum: backward Euler converges at order 1, BDF2 at order 2",
-          "[scene][articulated]") {
+          "[long][scene][articulated]") {
   auto const [integrator, expectedOrder] =
       GENERATE(std::pair{IntegratorType::BackwardEuler, 1.0}, std::pair{IntegratorType::Bdf2, 2.0});
   CAPTURE(ToString(integrator));
@@ -496,7 +496,7 @@ TEST_CASE("a long chain released horizontally steps on the tree with its bounded
 }
 
 TEST_CASE("a 500-link chain released horizontally falls for a second at dt = 1/60 on the tree",
-          "[scene][articulated][tree]") {
+          "[long][scene][articulated][tree]") {
   // The harness's chain-articulated N = 500. After the first modified pivot
   // the directions a spherical joint does not eliminate (its translations)
   // can grow up the chain (~3 % per joint in step 13, pivots from 1e9 to

@@ -29,7 +29,7 @@ Real3 SumOfForces(DynamicArray<Constraint*> const& constraints, int offset = 0) 
 }
 }  // namespace
 
-TEST_CASE("a clamped cantilever converges to the Euler-Bernoulli deflection", "[scene][deformable]") {
+TEST_CASE("a clamped cantilever converges to the Euler-Bernoulli deflection", "[long][scene][deformable]") {
   // steel-like stiffness for a small (linear-regime) deflection, ν = 0 so the
   // beam theory applies without Poisson coupling; L/h = 10
   real const length = 1, height = 0.1, youngModulus = 1e9, density = 1000, g = 9.81;
@@ -209,7 +209,7 @@ Cloth MakeCloth(int cells, SceneParams const& params) {
 }
 }  // namespace
 
-TEST_CASE("a cloth pinned at two corners settles and the pins carry its weight", "[scene][deformable]") {
+TEST_CASE("a cloth pinned at two corners settles and the pins carry its weight", "[long][scene][deformable]") {
   int const cells = 12;
   // default tolerance (1e-6 m/s); where the cloth wrinkles, the StVK membrane
   // is non-convex and its per-element PSD projection makes Newton converge
@@ -245,7 +245,7 @@ TEST_CASE("a cloth pinned at two corners settles and the pins carry its weight",
 // makes steps a constant small fraction of the way down. Without the line
 // search's expansion on concave rays the second step stops at the 300
 // iteration cap (gradient ~2e-7 N, energy falling ~1e-12 J per iteration).
-TEST_CASE("a cloth released at dt = 1/15 passes the saddles of its folds", "[scene][deformable][newton]") {
+TEST_CASE("a cloth released at dt = 1/15 passes the saddles of its folds", "[long][scene][deformable][newton]") {
   SceneParams params;
   params.newton.maxIterations = 300;
   Cloth cloth = MakeCloth(24, params);

@@ -47,7 +47,7 @@ real MaxDistance(DeformableActor const& a, DeformableActor const& b) {
 }  // namespace
 
 TEST_CASE("reused factorizations reach full Newton's states with fewer factorizations",
-          "[scene][newton][reuse]") {
+          "[long][scene][newton][reuse]") {
   LinearSolverType const solver = GENERATE(LinearSolverType::Cholmod, LinearSolverType::Dense);
   CAPTURE(ToString(solver));
   // reused: each reused-factor CG to its forcing term (the default);
@@ -126,7 +126,7 @@ TEST_CASE("a factorReuseTolerance outside (0, 1) is refused, naming the field", 
 }
 
 TEST_CASE("the single-precision copy of the factor reaches the double-precision states",
-          "[scene][newton][reuse][single]") {
+          "[long][scene][newton][reuse][single]") {
   // the CHOLMOD beam (3,675 DoFs: a supernodal factor); reused-factor CG
   // applies L from its float copy, or from CHOLMOD's double L
   Beam single = MakeBeam(true, LinearSolverType::Cholmod, true, true),

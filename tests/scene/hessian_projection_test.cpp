@@ -53,7 +53,7 @@ Outcome Squash(HessianProjection projection, LinearSolverType solver) {
 }  // namespace
 
 TEST_CASE("exact element Hessians with a projected fallback converge in fewer Newton iterations",
-          "[scene][newton][projection]") {
+          "[long][scene][newton][projection]") {
   LinearSolverType const solver = GENERATE(LinearSolverType::Cholmod, LinearSolverType::PetscPcg,
                                                 LinearSolverType::PetscMumps);
   CAPTURE(ToString(solver));

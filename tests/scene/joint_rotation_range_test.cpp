@@ -57,7 +57,7 @@ Hinge MakeHinge(Scene& scene) {
 }
 }  // namespace
 
-TEST_CASE("a hinge driven past its bound stops at the bound", "[scene][range]") {
+TEST_CASE("a hinge driven past its bound stops at the bound", "[long][scene][range]") {
   auto scene = MakeScene();
   Hinge h = MakeHinge(*scene);
   Error error;

@@ -85,7 +85,7 @@ bool BitIdentical(DynamicArray<real> const& a, DynamicArray<real> const& b) {
 
 }  // namespace
 
-TEST_CASE("a mixed scene steps bit-identically on 1, 2, 3 and 4 threads", "[scene][assembly][parallel]") {
+TEST_CASE("a mixed scene steps bit-identically on 1, 2, 3 and 4 threads", "[long][scene][assembly][parallel]") {
   std::unique_ptr<Scene> serial = MakeMixedScene(1);
   REQUIRE(serial->GetNumThreads() == 1);
   StepOk(*serial, 1.0 / 60, 4);

@@ -138,7 +138,7 @@ DynamicArray<Real3> CholmodReference(int steps) {
 
 }  // namespace
 
-TEST_CASE("PCG at rtol 1e-10 agrees with CHOLMOD over 30 steps", "[scene][pcg]") {
+TEST_CASE("PCG at rtol 1e-10 agrees with CHOLMOD over 30 steps", "[long][scene][pcg]") {
   DynamicArray<Real3> const reference = CholmodReference(30);
   PcgPreconditioner const preconditioner = GENERATE(from_range(AvailablePcgPreconditioners()));
   CAPTURE(ToString(preconditioner));
@@ -199,7 +199,7 @@ TEST_CASE("MUMPS agrees with CHOLMOD over 30 steps",
   REQUIRE((s.block->GetPosition() - Real3(0.6, -0.15, 0)).norm() > 1e-3);
 }
 
-TEST_CASE("PETSc objects are created once per pattern build", "[scene][pcg][reuse]") {
+TEST_CASE("PETSc objects are created once per pattern build", "[long][scene][pcg][reuse]") {
   SceneParams params;
   params.linearSolver = LinearSolverType::PetscPcg;
   params.pcg.preconditioner = GENERATE(PcgPreconditioner::Jacobi, PcgPreconditioner::Gamg);

@@ -170,7 +170,7 @@ TEST_CASE("a rod cantilever under self weight converges to q L^4 / (8 E I)", "[s
   REQUIRE(std::abs(error) <= 0.02);
 }
 
-TEST_CASE("an end-loaded rod cantilever follows the large-deflection elastica", "[scene][rod]") {
+TEST_CASE("an end-loaded rod cantilever follows the large-deflection elastica", "[long][scene][rod]") {
   real const alpha = GENERATE(1.0, 2.0, 5.0);
   CAPTURE(alpha);
   ElasticaTip const reference = SolveCantileverElastica(alpha);

@@ -114,6 +114,19 @@ void DefineScene(py::module_& m) {
           "Every actor, in creation order (a list; Python convenience over for_each_actor).")
       .def("get_num_actors", [](SceneOwner const& self) { return self.Get().GetNumActors(); });
 
+  // ---- contact ----
+  DefineFactory(cls, "create_collider", &Scene::CreateCollider, "a Collider");
+  cls.def("get_num_colliders", [](SceneOwner const& self) { return self.Get().GetNumColliders(); })
+      .def(
+          "get_contacts",
+          [](SceneOwner const& self) {
+            DynamicArray<ContactInfo> contacts;
+            self.Get().GetContacts(contacts);
+            return contacts;
+          },
+          "The contacts closer than the activation distance at the last step's end (a list of "
+          "Contact).");
+
   // ---- constraints ----
   DefineConstraintFactories(cls);
   cls.def(

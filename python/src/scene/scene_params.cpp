@@ -82,6 +82,7 @@ void DefineSceneParams(py::module_& m) {
       .Field("num_threads", &S::numThreads,
              "threads of the assembly, >= 0; 0 (default): every CPU this process may use. Results "
              "are bit-identical for any count")
+      .Field("contact", &S::contact, "ContactParams: contact between colliders (docs/contact.md)")
       .Field("communicator", &S::communicator,
              "Communicator: the MPI ranks the scene runs on; default Communicator(), one process. "
              "With Communicator.world() under mpirun every rank builds the same scene; "

@@ -14,6 +14,7 @@ using SceneClass = py::class_<SceneOwner, SceneRef>;
 
 inline py::object Wrap(SceneRef const& scene, Actor& actor) { return WrapActor(scene, actor); }
 inline py::object Wrap(SceneRef const& scene, Constraint& constraint) { return WrapConstraint(scene, constraint); }
+inline py::object Wrap(SceneRef const& scene, Collider& collider) { return py::cast(ColliderRef(scene, collider.GetId())); }
 
 /// Binds `name`(params=None, **kwargs) -> wrapped object for a Scene::Create… factory.
 template <class Params, class Result>

@@ -16,6 +16,14 @@ Scene& SceneOwner::Get() const {
   return *scene_;
 }
 
+Collider const& ColliderRef::Get() const {
+  Collider const* collider = scene_->Get().GetCollider(id_);
+  if (!collider)
+    Raise(ErrorCode::InvalidHandle,
+          "collider " + std::to_string(id_) + " was destroyed (with the actor that carried it)");
+  return *collider;
+}
+
 Actor& ActorRef::Get() const {
   Actor* actor = scene_->Get().GetActor(handle_);
   if (!actor)

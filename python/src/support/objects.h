@@ -38,6 +38,19 @@ class SceneOwner {
 };
 using SceneRef = std::shared_ptr<SceneOwner>;
 
+/// A Python collider: scene + collider id, resolved on every call.
+class ColliderRef {
+ public:
+  ColliderRef(SceneRef scene, int id) : scene_(std::move(scene)), id_(id) {}
+  /// The live collider, or mochi.Error (InvalidHandle: its actor was
+  /// destroyed; InvalidState: scene destroyed).
+  Collider const& Get() const;
+
+ private:
+  SceneRef scene_;
+  int id_;
+};
+
 /// A Python actor: scene + handle, resolved on every call.
 class ActorRef {
  public:

@@ -37,6 +37,8 @@ template <>
 struct IsNestedParams<PcgParams> : std::true_type {};
 template <>
 struct IsNestedParams<SubstepParams> : std::true_type {};
+template <>
+struct IsNestedParams<ContactParams> : std::true_type {};
 
 /// How a field of type F is read (Get) and assigned (Load).
 template <class F, class Enable = void>
@@ -100,7 +102,10 @@ struct FieldTraits {
 template <>
 struct FieldTraits<ActorHandle> {
   static py::object Get(ActorHandle& value, py::handle) { return py::cast(value); }
+  /// None is the null handle: a static obstacle (ColliderParams.actor);
+  /// a factory that needs an actor refuses it, naming the field.
   static ActorHandle Load(py::handle value, std::string const& field) {
+    if (value.is_none()) return ActorHandle{};
     return LoadActorHandle(value, field);
   }
 };

@@ -1,0 +1,74 @@
+"""Contact from Python (docs/contact.md): the names of the API, a box coming
+to rest on a static ground with its weight carried by the contacts, and bad
+colliders refused naming the field."""
+import math
+
+import numpy as np
+import pytest
+
+import mochi
+from helpers import raises
+
+
+def make_box_on_ground(mu=0.5):
+    scene = mochi.Scene.create(contact=mochi.ContactParams(activation_distance=1e-3))
+    ground = scene.create_collider(actor=None, shape=mochi.ShapeType.Plane, friction=mu)
+    box = scene.create_rigid_actor(mass=2.0, inertia=[0.0133] * 3, position=[0, 0.12, 0])
+    shape = scene.create_collider(actor=box, shape=mochi.ShapeType.Box, half_extents=[0.1, 0.1, 0.1],
+                                  friction=mu)
+    return scene, ground, box, shape
+
+
+def test_contact_params_and_collider_api():
+    params = mochi.SceneParams()
+    assert params.contact.activation_distance == pytest.approx(1e-3)
+    params.contact.stiffness = 2e6  # nested params read by reference
+    assert params.contact.stiffness == 2e6
+    scene, ground, box, shape = make_box_on_ground()
+    assert scene.get_num_colliders() == 2
+    assert ground.get_shape() == mochi.ShapeType.Plane
+    assert shape.get_shape() == mochi.ShapeType.Box
+    assert shape.get_actor() == box.get_handle()
+    assert ground.get_id() != shape.get_id()
+
+
+def test_a_box_falls_and_rests_on_the_ground():
+    scene, ground, box, shape = make_box_on_ground()
+    for _ in range(120):
+        scene.step(1.0 / 60)
+        assert box.get_position()[1] > 0.1  # its bottom face never below the ground
+    stats = scene.get_stats()
+    assert stats.active_contacts >= 4
+    assert 0 < stats.min_contact_distance < 1e-3
+    assert stats.contact_pattern_builds == 0  # obstacle contacts fit the analysed pattern
+    assert stats.pattern_builds == 1
+    contacts = scene.get_contacts()
+    assert len(contacts) == stats.active_contacts
+    # at rest the contacts carry the weight, m g = 19.62 N, along +y
+    total = sum(c.normal_force * np.asarray(c.normal)[1] for c in contacts)
+    assert total == pytest.approx(2.0 * 9.81, rel=1e-3)
+    assert all(c.collider_a == shape.get_id() and c.collider_b == ground.get_id() for c in contacts)
+    assert abs(box.get_linear_velocity()[1]) < 1e-6
+
+
+def test_bad_colliders_are_refused_naming_the_field():
+    scene = mochi.Scene.create()
+    with raises(mochi.ErrorCode.InvalidArgument, "radius"):
+        scene.create_collider(shape=mochi.ShapeType.Sphere, radius=0)
+    with raises(mochi.ErrorCode.InvalidArgument, "position"):
+        scene.create_collider(shape=mochi.ShapeType.Sphere, radius=0.1, position=[0, math.nan, 0])
+    with raises(mochi.ErrorCode.InvalidArgument, "triangles[0]"):
+        scene.create_collider(shape=mochi.ShapeType.TriangleMesh, vertices=[[0, 0, 0], [1, 0, 0], [2, 0, 0]],
+                              triangles=[[0, 1, 2]])
+    with raises(mochi.ErrorCode.InvalidArgument, "contact.activationDistance"):
+        mochi.Scene.create(contact=mochi.ContactParams(activation_distance=-1))
+    assert scene.get_num_colliders() == 0
+    # a collider that starts through another is refused, naming both
+    scene.create_collider(shape=mochi.ShapeType.Plane)
+    box = scene.create_rigid_actor(position=[0, 0.05, 0])
+    with raises(mochi.ErrorCode.InvalidArgument, "intersects collider 0 (Plane)"):
+        scene.create_collider(actor=box, shape=mochi.ShapeType.Box, half_extents=[0.1, 0.1, 0.1])
+    assert scene.get_num_colliders() == 1
+    # a destroyed actor takes its colliders along
+    scene.destroy_actor(box)
+    assert scene.get_num_colliders() == 1
