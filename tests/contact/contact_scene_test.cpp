@@ -332,3 +332,29 @@ TEST_CASE("a sphere rolls down an incline at the speed of rolling without slip",
   CHECK(RollingSpeedError(IntegratorType::Bdf2, 1e-2, 1.0) < 1e-3);
   CHECK(RollingSpeedError(IntegratorType::BackwardEuler, 1e-3, 1.0) < 5.5e-4);
 }
+
+TEST_CASE("a contact scene steps bit-identically on 1 and 4 threads", "[contact][parallel]") {
+  // the soft ball landing on the ground (candidates, barrier, friction and
+  // CCD every stage) with the assembly on 1 and on 4 threads
+  auto run = [](int threads) {
+    SceneParams params;
+    params.numThreads = threads;
+    auto scene = MakeScene(params);
+    ColliderParams ground;
+    ground.shape = ShapeType::Plane;
+    MakeCollider(*scene, ground);
+    DeformableActorParams ball = TetBall(Real3(0, 0.15, 0), 0.1, 4);
+    Error error;
+    DeformableActor* actor = scene->CreateDeformableActor(ball, error);
+    REQUIRE(actor);
+    ColliderParams surface;
+    surface.actor = actor->GetHandle();
+    MakeCollider(*scene, surface);
+    for (int s = 0; s < 60; ++s) REQUIRE(scene->Step(1.0 / 120, error));
+    REQUIRE(scene->GetStats().activeContacts > 0);
+    return actor->GetNodePositions();
+  };
+  DynamicArray<Real3> const one = run(1), four = run(4);
+  REQUIRE(one.size() == four.size());
+  for (std::size_t i = 0; i < one.size(); ++i) REQUIRE(one[i] == four[i]);
+}
