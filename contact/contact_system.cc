@@ -301,14 +301,10 @@ bool ContactSystem::CheckSeparated(int index, Error& error) {
   PrepareVertices();
   bound_.assign(x_.size(), 0);
   pairs_.clear();
-  Collider const& added = *colliders_[index];
+  ++treeStamp_;
   for (int other = 0; other < index; ++other) {
-    Collider const& c = *colliders_[other];
-    if (added.Moves() == c.Moves() || !Touch(added, c)) continue;  // only body–obstacle pairs so far
-    if (added.Moves())
-      AddPairs(index, other);
-    else
-      AddPairs(other, index);
+    if (MayTouch(index, other)) AddPairs(index, other);
+    if (MayTouch(other, index)) AddPairs(other, index);
   }
   for (Pair const& pair : pairs_) {
     real const gap = Gap(pair, x_);
@@ -352,8 +348,14 @@ Collider const* ContactSystem::GetCollider(int id) const {
   return nullptr;
 }
 
-bool ContactSystem::Touch(Collider const& a, Collider const& b) {
-  return (a.group_ & b.mask_) && (b.group_ & a.mask_);
+bool ContactSystem::MayTouch(int a, int b) const {
+  // each unordered pair once: a body (side A) against an obstacle, or
+  // against a body of a later collider; the filter's bits; no self contact
+  Collider const& ca = *colliders_[a];
+  Collider const& cb = *colliders_[b];
+  if (!ca.Moves() || (cb.Moves() && b <= a)) return false;
+  if (cb.Moves() && ca.actor_ == cb.actor_) return false;
+  return (ca.group_ & cb.mask_) && (cb.group_ & ca.mask_);
 }
 
 // ---- positions ----
@@ -399,13 +401,11 @@ void ContactSystem::BeginStage(StageContext const& stage) {
     real const bound = 2 * (speed * h + stage.gravity.norm() * h * h) + params_.activationDistance;
     std::fill(bound_.begin() + firstVertex_[c], bound_.begin() + firstVertex_[c + 1], bound);
   }
+  ++treeStamp_;
   pairs_.clear();
-  for (std::size_t a = 0; a < colliders_.size(); ++a) {
-    if (!colliders_[a]->Moves()) continue;
-    for (std::size_t b = 0; b < colliders_.size(); ++b)
-      if (!colliders_[b]->Moves() && Touch(*colliders_[a], *colliders_[b]))  // body–body contact: not yet
-        AddPairs(static_cast<int>(a), static_cast<int>(b));
-  }
+  for (int a = 0; a < static_cast<int>(colliders_.size()); ++a)
+    for (int b = 0; b < static_cast<int>(colliders_.size()); ++b)
+      if (MayTouch(a, b)) AddPairs(a, b);
   for (Pair& pair : pairs_) LagFriction(pair);
 }
 
@@ -415,20 +415,24 @@ ContactSystem::ObstacleTrees const& ContactSystem::TreesOf(int obstacleIndex) {
     trees_.resize(colliders_.size());
   }
   std::unique_ptr<ObstacleTrees>& trees = trees_[obstacleIndex];
-  if (!trees) {
-    // an obstacle never moves: its trees are built once
-    trees = std::make_unique<ObstacleTrees>();
-    Collider const& o = *colliders_[obstacleIndex];
+  Collider const& o = *colliders_[obstacleIndex];
+  // a static obstacle's trees are built once; a body's once per stage, over
+  // its primitives' boxes inflated by its displacement bound
+  if (!trees || (o.Moves() && trees->stamp != treeStamp_)) {
+    if (!trees) trees = std::make_unique<ObstacleTrees>();
+    trees->stamp = treeStamp_;
     int const f = firstVertex_[obstacleIndex];
-    DynamicArray<contact::Aabb> boxes;
+    real const margin = o.Moves() && !bound_.empty() ? bound_[f] : 0;
+    DynamicArray<contact::Aabb>& boxes = treeBoxScratch_;
     Error ignored;  // the boxes are finite: the shape was validated
-    for (auto const& t : o.triangles_) boxes.push_back(BoxOf(x_, {f + t[0], f + t[1], f + t[2]}, 0));
+    boxes.clear();
+    for (auto const& t : o.triangles_) boxes.push_back(BoxOf(x_, {f + t[0], f + t[1], f + t[2]}, margin));
     trees->triangles.Build(boxes, ignored);
     boxes.clear();
-    for (auto const& e : o.edges_) boxes.push_back(BoxOf(x_, {f + e[0], f + e[1]}, 0));
+    for (auto const& e : o.edges_) boxes.push_back(BoxOf(x_, {f + e[0], f + e[1]}, margin));
     trees->edges.Build(boxes, ignored);
     boxes.clear();
-    for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) boxes.push_back(BoxOf(x_, {f + i}, 0));
+    for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) boxes.push_back(BoxOf(x_, {f + i}, margin));
     trees->vertices.Build(boxes, ignored);
   }
   return *trees;
@@ -559,46 +563,57 @@ real ContactSystem::Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12
 }
 
 Real3 ContactSystem::Slip(Pair const& pair, DynamicArray<Real3> const& x) const {
-  RigidActor const* rigid = colliders_[pair.body]->rigid_;
-  if (rigid)  // the contact point's displacement at the stage's velocities, Δc + φ × a⁰
-    return pair.slip0 + rigid->GetPosition() - pair.center0 + StageTurn(pair, *rigid).cross(pair.arm0);
+  // side A's contact point's displacement less side B's: a nodal side's
+  // closest point through its vertices, a rigid side's contact point at the
+  // stage's velocities, Δc + φ × a⁰ (a sphere rolls with v = ωr exactly
+  // rather than slipping by its chord)
   Real3 slip = pair.slip0;
-  for (int k = 0; k < pair.numVertices; ++k) slip += pair.gamma[k] * (x[pair.v[k]] - x0_[pair.v[k]]);
+  for (int side = 0; side < 2; ++side) {
+    Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
+    if (c.rigid_) {
+      real const sign = side == 0 ? 1 : -1;
+      slip += sign * (c.rigid_->GetPosition() - pair.center0[side] + StageTurn(pair, side).cross(pair.arm0[side]));
+    } else if (c.nodal_) {
+      for (int k = 0; k < pair.numVertices; ++k)
+        if (pair.onBody[k] == (side == 0)) slip += pair.gamma[k] * (x[pair.v[k]] - x0_[pair.v[k]]);
+    }
+  }
   return slip;
 }
-
 void ContactSystem::LagFriction(Pair& pair) const {
   // the normal force at the stage start, the tangent plane there and the
-  // weights γ of the closest points: ∂d/∂xₖ = γₖ n (n from the obstacle
-  // towards the body)
+  // weights γ of the closest points: ∂d/∂xₖ = γₖ n (n from side B towards
+  // side A, the pair's `body`)
   pair.lambda = 0;
   Vector12 grad;
   real const d = Gap(pair, x0_, &grad);
   real const dhat = params_.activationDistance;
   if (!(d > 0) || d >= dhat || pair.mu == 0) return;
-  Real3 bodyGrad = Real3::Zero();
+  Real3 sideGrad = Real3::Zero();
   for (int k = 0; k < pair.numVertices; ++k)
-    if (pair.onBody[k]) bodyGrad += grad.segment<3>(3 * k);
-  if (bodyGrad.norm() == 0) return;
-  Real3 const n = bodyGrad.normalized();
+    if (pair.onBody[k]) sideGrad += grad.segment<3>(3 * k);
+  if (sideGrad.norm() == 0) return;
+  Real3 const n = sideGrad.normalized();
   pair.lambda = -params_.stiffness * pair.weight * contact::BarrierDerivative(d / dhat);
   pair.basis = contact::PointPointTangentBasis(n, Real3::Zero());
   for (int k = 0; k < pair.numVertices; ++k) pair.gamma[k] = grad.segment<3>(3 * k).dot(n);
-  // the body's point at the contact: its closest point less its thickness
-  // along n (a sphere's contact point, not its centre)
-  Collider const& body = *colliders_[pair.body];
-  pair.contactPoint0 = -body.thickness_ * n;
-  for (int k = 0; k < pair.numVertices; ++k)
-    if (pair.onBody[k]) pair.contactPoint0 += pair.gamma[k] * x0_[pair.v[k]];
-  if (body.rigid_) {
-    pair.center0 = body.rigid_->GetPosition();
-    pair.rotation0 = body.rigid_->GetRotation();
-    pair.arm0 = pair.contactPoint0 - pair.center0;
+  // each rigid side's material point at the contact: its closest point less
+  // its thickness towards the other side (a sphere's contact point, not its
+  // centre), as an arm from its centre
+  for (int side = 0; side < 2; ++side) {
+    Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
+    if (!c.rigid_) continue;
+    real const sign = side == 0 ? 1 : -1;
+    Real3 point = -sign * c.thickness_ * n;
+    for (int k = 0; k < pair.numVertices; ++k)
+      if (pair.onBody[k] == (side == 0)) point += sign * pair.gamma[k] * x0_[pair.v[k]];
+    pair.center0[side] = c.rigid_->GetPosition();
+    pair.rotation0[side] = c.rigid_->GetRotation();
+    pair.arm0[side] = point - pair.center0[side];
   }
   auto const it = anchors_.find(pair.key);
   pair.slip0 = it == anchors_.end() ? Real3::Zero() : Real3(pair.basis * (pair.basis.transpose() * it->second));
 }
-
 namespace {
 /// The barrier of a pair of n coordinates, Hessian projected to PSD, in the
 /// first n of 12 coordinates.
@@ -677,10 +692,10 @@ contact::ValueGradientHessian<12> ContactSystem::PairBarrier(Pair const& pair, b
   return e;
 }
 
-Real3 ContactSystem::StageTurn(Pair const& pair, RigidActor const& rigid) {
-  return Log(rigid.GetRotation() * pair.rotation0.conjugate());
+Real3 ContactSystem::StageTurn(Pair const& pair, int side) const {
+  RigidActor const& rigid = *colliders_[side == 0 ? pair.body : pair.obstacle]->rigid_;
+  return Log(rigid.GetRotation() * pair.rotation0[side].conjugate());
 }
-
 contact::TangentialFriction ContactSystem::PairFriction(Pair const& pair, DynamicArray<Real3> const& x) const {
   if (pair.lambda <= 0) return {};
   return contact::EvaluateTangentialFriction(pair.basis.transpose() * Slip(pair, x), pair.mu * pair.lambda,
@@ -690,20 +705,23 @@ contact::TangentialFriction ContactSystem::PairFriction(Pair const& pair, Dynami
 // ---- the stage term ----
 
 void ContactSystem::PairDofs(Pair const& pair, DynamicArray<int>& dofs) const {
-  Collider const& body = *colliders_[pair.body];
-  if (body.rigid_) {
-    int const o = body.rigid_->GetDofOffset();
-    for (int k = 0; k < 6; ++k) dofs.push_back(o + k);
-    return;
-  }
-  int const o = body.nodal_->GetDofOffset(), stride = body.nodal_->GetNodeDofStride();
-  for (int k = 0; k < pair.numVertices; ++k) {
-    if (!pair.onBody[k]) continue;
-    int const node = body.local_[pair.v[k] - firstVertex_[pair.body]].node;
-    for (int j = 0; j < 3; ++j) dofs.push_back(o + stride * node + j);
+  // side A's DoFs, then side B's (none for a static obstacle): a rigid side's
+  // 6, a nodal side's 3 per vertex of the pair, in the pair's vertex order
+  for (int side = 0; side < 2; ++side) {
+    int const index = side == 0 ? pair.body : pair.obstacle;
+    Collider const& c = *colliders_[index];
+    if (c.rigid_) {
+      for (int k = 0; k < 6; ++k) dofs.push_back(c.rigid_->GetDofOffset() + k);
+    } else if (c.nodal_) {
+      int const o = c.nodal_->GetDofOffset(), stride = c.nodal_->GetNodeDofStride();
+      for (int k = 0; k < pair.numVertices; ++k) {
+        if (pair.onBody[k] != (side == 0)) continue;
+        int const node = c.local_[pair.v[k] - firstVertex_[index]].node;
+        for (int j = 0; j < 3; ++j) dofs.push_back(o + stride * node + j);
+      }
+    }
   }
 }
-
 void ContactSystem::AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
   for (Pair const& pair : pairs_) {
     dofLists.emplace_back();
@@ -718,98 +736,135 @@ void ContactSystem::AddEnergy(HessianAssembler const&, int, EnergySum& sum) cons
 
 void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, AssemblyOptions const& options) const {
   UpdatePositions(x_);
-  using DofVector = Eigen::Matrix<real, Eigen::Dynamic, 1, 0, 12, 1>;
-  using DofMatrix = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 12, 12>;
+  // at most 18 DoFs: two rigid sides (12), or a rigid side and a nodal
+  // triangle (15)
+  constexpr int kMaxDofs = 18;
+  using DofVector = Eigen::Matrix<real, Eigen::Dynamic, 1, 0, kMaxDofs, 1>;
+  using DofMatrix = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDofs, kMaxDofs>;
+  using VertexJacobian = Eigen::Matrix<real, 12, Eigen::Dynamic, 0, 12, kMaxDofs>;
+  using SlipJacobian = Eigen::Matrix<real, 3, Eigen::Dynamic, 0, 3, kMaxDofs>;
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     Pair const& pair = pairs_[p];
-    contact::ValueGradientHessian<12> e = PairBarrier(pair, true);
+    contact::ValueGradientHessian<12> const e = PairBarrier(pair, true);
     int const n = 3 * pair.numVertices;
-    // friction, PSD by construction (so the sum with the projected barrier
-    // stays PSD): in the vertices' coordinates for a nodal body, at the
-    // contact's material point for a rigid one (below)
+    if (e.gradient.head(n).isZero(0) && pair.lambda <= 0) continue;
     contact::TangentialFriction const friction = PairFriction(pair, x_);
-    Real3 const force = pair.basis * friction.gradient;
-    Real33 const stiffness = pair.basis * friction.hessian * pair.basis.transpose();
-    if (colliders_[pair.body]->nodal_ && pair.lambda > 0)
-      for (int a = 0; a < pair.numVertices; ++a) {
-        e.gradient.segment<3>(3 * a) += pair.gamma[a] * force;
-        for (int b = 0; b < pair.numVertices; ++b)
-          e.hessian.block<3, 3>(3 * a, 3 * b) += pair.gamma[a] * pair.gamma[b] * stiffness;
-      }
-    if (e.gradient.head(n).isZero(0) && e.hessian.topLeftCorner(n, n).isZero(0) && pair.lambda <= 0) continue;
-    // through the body's DoFs
-    Collider const& body = *colliders_[pair.body];
-    DofVector gq;
-    DofMatrix Hq;
-    if (body.rigid_) {
-      // x = c + R r: J = [I, −Hat(x − c)], and the rotation's curvature
-      Eigen::Matrix<real, 12, 6> J = Eigen::Matrix<real, 12, 6>::Zero();
-      Real3 const c = body.rigid_->GetPosition();
-      Real33 curvature = Real33::Zero();
-      for (int k = 0; k < pair.numVertices; ++k) {
-        if (!pair.onBody[k]) continue;
-        Real3 const arm = x_[pair.v[k]] - c;
-        J.block<3, 3>(3 * k, 0) = Real33::Identity();
-        J.block<3, 3>(3 * k, 3) = -Hat(arm);
-        curvature += RotatedVectorCurvature(e.gradient.segment<3>(3 * k), arm);
-      }
-      gq = J.topRows(n).transpose() * e.gradient.head(n);
-      Hq = J.topRows(n).transpose() * e.hessian.topLeftCorner(n, n) * J.topRows(n);
-      if (pair.lambda > 0) {
-        // ∂slip/∂(δt, δθ) = [I, −Hat(a⁰) J_l⁻¹(φ)] (the chart's curvature
+    // the vertices' positions and the slip as functions of the pair's DoFs
+    // (PairDofs' order): J (vertices), Jf (slip), and each rigid side's
+    // rotation curvature of the barrier
+    int const m = PairDofCount(pair);
+    VertexJacobian J = VertexJacobian::Zero(12, m);
+    SlipJacobian Jf = SlipJacobian::Zero(3, m);
+    std::array<Real33, 2> curvature{Real33::Zero(), Real33::Zero()};
+    std::array<int, 2> rotationColumn{-1, -1};
+    int column = 0;
+    for (int side = 0; side < 2; ++side) {
+      Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
+      real const sign = side == 0 ? 1 : -1;
+      if (c.rigid_) {
+        Real3 const center = c.rigid_->GetPosition();
+        for (int k = 0; k < pair.numVertices; ++k) {
+          if (pair.onBody[k] != (side == 0)) continue;
+          Real3 const arm = x_[pair.v[k]] - center;
+          J.block<3, 3>(3 * k, column) = Real33::Identity();
+          J.block<3, 3>(3 * k, column + 3) = -Hat(arm);
+          curvature[side] += RotatedVectorCurvature(e.gradient.segment<3>(3 * k), arm);
+        }
+        // ∂slip/∂(δt, δθ) = ±[I, −Hat(a⁰) J_l⁻¹(φ)] (the chart's curvature
         // dropped: the slip is nearly linear in φ over a stage)
-        Eigen::Matrix<real, 3, 6> Jf;
-        Jf << Real33::Identity(), -Hat(pair.arm0) * LeftJacobianInverse(StageTurn(pair, *body.rigid_));
-        gq += Jf.transpose() * force;
-        Hq += Jf.transpose() * stiffness * Jf;
-      }
-      if (!options.projectHessian) Hq.bottomRightCorner<3, 3>() += curvature;
-    } else {
-      // a node's world position is T(X + u): J = R_T on its 3 DoFs
-      Real33 const r = body.nodal_->GetTransformRotation().toRotationMatrix();
-      int m = 0;
-      std::array<int, 4> slot{};
-      for (int k = 0; k < pair.numVertices; ++k)
-        if (pair.onBody[k]) slot[m++] = k;
-      gq.resize(3 * m);
-      Hq.resize(3 * m, 3 * m);
-      for (int a = 0; a < m; ++a) {
-        gq.segment<3>(3 * a) = r.transpose() * e.gradient.segment<3>(3 * slot[a]);
-        for (int b = 0; b < m; ++b)
-          Hq.block<3, 3>(3 * a, 3 * b) = r.transpose() * e.hessian.block<3, 3>(3 * slot[a], 3 * slot[b]) * r;
+        Jf.block<3, 3>(0, column) = sign * Real33::Identity();
+        Jf.block<3, 3>(0, column + 3) = -sign * Hat(pair.arm0[side]) * LeftJacobianInverse(StageTurn(pair, side));
+        rotationColumn[side] = column + 3;
+        column += 6;
+      } else if (c.nodal_) {
+        // a node's world position is T(X + u): R_T on its 3 DoFs
+        Real33 const r = c.nodal_->GetTransformRotation().toRotationMatrix();
+        for (int k = 0; k < pair.numVertices; ++k) {
+          if (pair.onBody[k] != (side == 0)) continue;
+          J.block<3, 3>(3 * k, column) = r;
+          Jf.block<3, 3>(0, column) = pair.gamma[k] * r;
+          column += 3;
+        }
       }
     }
+    Real3 const force = pair.basis * friction.gradient;
+    Real33 const stiffness = pair.basis * friction.hessian * pair.basis.transpose();
+    // the projected barrier and the friction (PSD by construction): PSD
+    DofVector gq = J.topRows(n).transpose() * e.gradient.head(n) + Jf.transpose() * force;
+    DofMatrix Hq = J.topRows(n).transpose() * e.hessian.topLeftCorner(n, n) * J.topRows(n) +
+                   Jf.transpose() * stiffness * Jf;
+    if (!options.projectHessian)
+      for (int side = 0; side < 2; ++side)
+        if (rotationColumn[side] >= 0) Hq.block<3, 3>(rotationColumn[side], rotationColumn[side]) += curvature[side];
     int const contributor = options.firstStageContributor + static_cast<int>(p);
     assembler.AddDynamicGradient(contributor, gq);
     assembler.AddDynamicBlock(contributor, Hq);
   }
 }
 
+int ContactSystem::PairDofCount(Pair const& pair) const {
+  int count = 0;
+  for (int side = 0; side < 2; ++side) {
+    Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
+    if (c.rigid_) {
+      count += 6;
+    } else if (c.nodal_) {
+      for (int k = 0; k < pair.numVertices; ++k) count += 3 * (pair.onBody[k] == (side == 0));
+    }
+  }
+  return count;
+}
+
 // ---- the safe step ----
 
 real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real tMax) const {
-  // conservative advancement on the exact arcs x(α) = c + α δt + Exp(α δθ) a:
-  // every point of the body moves at most L = |δt| + |δθ| max|a| per unit α,
-  // so advancing by (gap − target)/L never passes the target gap
-  Collider const& body = *colliders_[pair.body];
-  int const o = body.rigid_->GetDofOffset();
-  Real3 const dt(delta[o], delta[o + 1], delta[o + 2]), dr(delta[o + 3], delta[o + 4], delta[o + 5]);
-  Real3 const c = body.rigid_->GetPosition();
-  real armBound = 0;
-  for (int k = 0; k < pair.numVertices; ++k)
-    if (pair.onBody[k]) armBound = std::max(armBound, (x_[pair.v[k]] - c).norm());
-  real const speed = dt.norm() + dr.norm() * armBound;
+  // conservative advancement along the true paths — a rigid side's vertices
+  // on arcs x(α) = c + α δt + Exp(α δθ) a, a nodal side's on lines — with L
+  // the sum of each side's largest speed per unit α (|δt| + |δθ| max|a| for a
+  // rigid side): advancing by (gap − target)/L never passes the target gap
+  struct SideMotion {
+    RigidActor const* rigid = nullptr;
+    Real3 center, dt, dr;
+  };
+  std::array<SideMotion, 2> motion;
+  real speed = 0;
+  for (int side = 0; side < 2; ++side) {
+    Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
+    real sideSpeed = 0;
+    if (c.rigid_) {
+      int const o = c.rigid_->GetDofOffset();
+      SideMotion& s = motion[side];
+      s.rigid = c.rigid_;
+      s.center = c.rigid_->GetPosition();
+      s.dt = Real3(delta[o], delta[o + 1], delta[o + 2]);
+      s.dr = Real3(delta[o + 3], delta[o + 4], delta[o + 5]);
+      real armBound = 0;
+      for (int k = 0; k < pair.numVertices; ++k)
+        if (pair.onBody[k] == (side == 0)) armBound = std::max(armBound, (x_[pair.v[k]] - s.center).norm());
+      sideSpeed = s.dt.norm() + s.dr.norm() * armBound;
+    } else {
+      for (int k = 0; k < pair.numVertices; ++k)
+        if (pair.onBody[k] == (side == 0)) sideSpeed = std::max(sideSpeed, displacement_[pair.v[k]].norm());
+    }
+    speed += sideSpeed;
+  }
   real const gap0 = Gap(pair, x_);
   if (!(gap0 > 0)) return 0;
   if (speed == 0) return tMax;
   real const target = (1 - contact::kCcdRescale) * gap0;
   real const stop = contact::kCcdStopFraction * contact::kCcdRescale * gap0;
-  for (int k = 0; k < pair.numVertices; ++k) trial_[pair.v[k]] = x_[pair.v[k]];
   real t = 0;
   for (int iteration = 0; iteration < contact::kCcdMaxIterations; ++iteration) {
-    Real33 const turn = ExpMatrix(t * dr);
-    for (int k = 0; k < pair.numVertices; ++k)
-      if (pair.onBody[k]) trial_[pair.v[k]] = c + t * dt + turn * (x_[pair.v[k]] - c);
+    for (int side = 0; side < 2; ++side) {
+      SideMotion const& s = motion[side];
+      Real33 const turn = s.rigid ? ExpMatrix(t * s.dr) : Real33::Identity();
+      for (int k = 0; k < pair.numVertices; ++k) {
+        if (pair.onBody[k] != (side == 0)) continue;
+        Real3 const& x = x_[pair.v[k]];
+        trial_[pair.v[k]] = s.rigid ? Real3(s.center + t * s.dt + turn * (x - s.center))
+                                    : Real3(x + t * displacement_[pair.v[k]]);
+      }
+    }
     real const gap = Gap(pair, trial_);
     if (gap - target <= stop) return t;
     t += (gap - target) / speed;
@@ -817,7 +872,6 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
   }
   return t;
 }
-
 real ContactSystem::LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x, real scale) const {
   auto const& v = pair.v;
   auto dx = [&](int k) -> Real3 { return displacement_[v[k]] * scale; };
@@ -870,7 +924,8 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
   }
   // continuous collision detection of every candidate along the step
   for (Pair const& pair : pairs_)
-    safe = colliders_[pair.body]->rigid_ ? RigidPairCcd(pair, delta, safe) : safe * LinearPairCcd(pair, x_, safe);
+    safe = colliders_[pair.body]->rigid_ || colliders_[pair.obstacle]->rigid_ ? RigidPairCcd(pair, delta, safe)
+                                                                             : safe * LinearPairCcd(pair, x_, safe);
   return safe;
 }
 

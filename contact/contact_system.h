@@ -13,9 +13,11 @@
 // candidate set stays complete and no trial passes one surface through
 // another. At the stage end it moves each sliding contact's stick anchor.
 //
-// Contacts so far: bodies (rigid actors' shapes, the surfaces of deformable
-// and rod actors) against static obstacles. A contact with an obstacle
-// touches only its body's own DoF block, so the analysed pattern always fits.
+// Contacts: bodies (rigid actors' shapes, the surfaces of deformable and rod
+// actors) against static obstacles and against each other (no self contact
+// yet). A contact with an obstacle touches only its body's own DoF block, so
+// the analysed pattern always fits; one between two bodies joins their
+// blocks (the pattern grows in its kept order).
 #pragma once
 
 #include <cstdint>
@@ -130,8 +132,9 @@ class ContactSystem final : public StageTerm {
   void EndStage() override;
 
   enum class PairKind : std::uint8_t { PlaneVertex, PointTriangle, EdgeEdge, PointEdge, PointPoint };
-  /// A candidate pair: vertices v (world positions in x_), each of the body
-  /// collider or of the obstacle.
+  /// A candidate pair: vertices v (world positions in x_), each of side A
+  /// (the collider `body`, onBody) or side B (`obstacle`: a static obstacle
+  /// or a second body).
   struct Pair {
     PairKind kind = PairKind::PlaneVertex;
     int body = -1, obstacle = -1;  ///< collider indices
@@ -148,9 +151,9 @@ class ContactSystem final : public StageTerm {
     Real3 slip0 = Real3::Zero();            ///< anchor offset at the stage start
     Real3 contactPoint0 = Real3::Zero();    ///< the body's point at the contact, stage start
     // a rigid body at the stage start: centre, rotation, arm of the contact point
-    Real3 center0 = Real3::Zero();
-    Quat rotation0 = Quat::Identity();
-    Real3 arm0 = Real3::Zero();
+    std::array<Real3, 2> center0{Real3::Zero(), Real3::Zero()};
+    std::array<Quat, 2> rotation0{Quat::Identity(), Quat::Identity()};
+    std::array<Real3, 2> arm0{Real3::Zero(), Real3::Zero()};
   };
 
  private:
@@ -158,6 +161,7 @@ class ContactSystem final : public StageTerm {
   /// A static obstacle's primitives in bounding-volume trees (built once).
   struct ObstacleTrees {
     contact::Bvh triangles, edges, vertices;
+    std::uint64_t stamp = 0;  ///< a body's trees: the stage they were built for
   };
 
   /// The shape's vertices (and a Plane's normal, a Box's triangles),
@@ -165,8 +169,10 @@ class ContactSystem final : public StageTerm {
   static bool MakeShape(ColliderParams const& params, Collider& collider,
                         DynamicArray<std::array<int, 3>>& triangles, Error& error);
   bool SetPrimitives(Collider& collider, DynamicArray<std::array<int, 3>> triangles, Error& error) const;
-  /// The colliders' groups and masks let them touch.
-  static bool Touch(Collider const& a, Collider const& b);
+  /// Whether collider a (side A) and b are a candidate pair of colliders:
+  /// a is a body, b an obstacle or a later body of another actor, and their
+  /// groups and masks let them touch.
+  bool MayTouch(int a, int b) const;
   /// Vertex numbering and positions (x_ = x0_) of the current colliders.
   void PrepareVertices();
   /// InvalidArgument naming both colliders where collider `index` starts at
@@ -190,8 +196,10 @@ class ContactSystem final : public StageTerm {
   /// The friction energy at positions x, its gradient and Hessian in the
   /// tangential slip u (zero without a lagged normal force).
   contact::TangentialFriction PairFriction(Pair const& pair, DynamicArray<Real3> const& x) const;
-  /// A rigid body's rotation since the stage start, φ = Log(R R⁰ᵀ) (world).
-  static Real3 StageTurn(Pair const& pair, RigidActor const& rigid);
+  /// A rigid side's rotation since the stage start, φ = Log(R R⁰ᵀ) (world).
+  Real3 StageTurn(Pair const& pair, int side) const;
+  /// The number of DoFs of the pair's contributor (PairDofs).
+  int PairDofCount(Pair const& pair) const;
   /// The safe fraction of a linear move of the pair's vertices from x by
   /// scale · displacement_ (CCD; in [0, 1]).
   real LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x, real scale) const;
@@ -209,7 +217,8 @@ class ContactSystem final : public StageTerm {
   DynamicArray<real> bound_;             ///< per vertex displacement bound for the stage [m]
   DynamicArray<Pair> pairs_;
   DynamicArray<std::unique_ptr<ObstacleTrees>> trees_;  ///< per collider (obstacles only)
-  DynamicArray<contact::Aabb> boxScratch_;
+  DynamicArray<contact::Aabb> boxScratch_, treeBoxScratch_;
+  std::uint64_t treeStamp_ = 0;
   DynamicArray<contact::IndexPair> pairScratch_;
   std::unordered_map<std::uint64_t, Real3> anchors_, savedAnchors_;
   mutable DynamicArray<Real3> displacement_, trial_;
