@@ -300,6 +300,7 @@ bool ContactSystem::SetPrimitives(Collider& c, DynamicArray<std::array<int, 3>> 
 bool ContactSystem::CheckSeparated(int index, Error& error) {
   PrepareVertices();
   bound_.assign(x_.size(), 0);
+  selfBound_.assign(colliders_.size(), 0);
   pairs_.clear();
   ++treeStamp_;
   for (int other = 0; other < index; ++other) {
@@ -353,6 +354,7 @@ bool ContactSystem::MayTouch(int a, int b) const {
   // against a body of a later collider; the filter's bits; no self contact
   Collider const& ca = *colliders_[a];
   Collider const& cb = *colliders_[b];
+  if (a == b) return ca.shape_ == ShapeType::Surface && ((ca.group_ & ca.mask_) != 0);  // self contact
   if (!ca.Moves() || (cb.Moves() && b <= a)) return false;
   if (cb.Moves() && ca.actor_ == cb.actor_) return false;
   return (ca.group_ & cb.mask_) && (cb.group_ & ca.mask_);
@@ -401,6 +403,28 @@ void ContactSystem::BeginStage(StageContext const& stage) {
     real const bound = 2 * (speed * h + stage.gravity.norm() * h * h) + params_.activationDistance;
     std::fill(bound_.begin() + firstVertex_[c], bound_.begin() + firstVertex_[c + 1], bound);
   }
+  // self contact: only a body's deformation brings its primitives together,
+  // so each vertex's bound there is on its displacement relative to the
+  // body's mean displacement: twice its largest velocity relative to the
+  // mean velocity over the stage, plus d̂ (a falling ball's surface does not
+  // reach across the ball)
+  selfBound_.assign(colliders_.size(), 0);
+  for (int c = 0; c < static_cast<int>(colliders_.size()); ++c) {
+    if (!MayTouch(c, c)) continue;
+    NodalActor const& nodal = *colliders_[c]->nodal_;
+    int const count = firstVertex_[c + 1] - firstVertex_[c];
+    Real3 mean = Real3::Zero();
+    for (int i = 0; i < count; ++i) mean += nodal.GetNodeVelocity(colliders_[c]->local_[i].node) / count;
+    real spread = 0, fastest = 0;
+    for (int i = 0; i < count; ++i) {
+      Real3 const v = nodal.GetNodeVelocity(colliders_[c]->local_[i].node);
+      spread = std::max(spread, (v - mean).norm());
+      fastest = std::max(fastest, v.norm());
+    }
+    // an impact stops part of a body within the stage: its relative motion
+    // can then reach the whole speed of its fastest vertex
+    selfBound_[c] = 2 * std::max(spread, 0.5 * fastest) * h + params_.activationDistance;
+  }
   ++treeStamp_;
   pairs_.clear();
   for (int a = 0; a < static_cast<int>(colliders_.size()); ++a)
@@ -438,6 +462,25 @@ ContactSystem::ObstacleTrees const& ContactSystem::TreesOf(int obstacleIndex) {
   return *trees;
 }
 
+ContactSystem::ObstacleTrees const& ContactSystem::SelfTrees(int index) {
+  // a body's primitives for its self contact: boxes inflated by its self bound
+  Collider const& o = *colliders_[index];
+  int const f = firstVertex_[index];
+  real const margin = selfBound_[index];
+  DynamicArray<contact::Aabb>& boxes = treeBoxScratch_;
+  Error ignored;  // the boxes are finite: the positions are
+  boxes.clear();
+  for (auto const& t : o.triangles_) boxes.push_back(BoxOf(x_, {f + t[0], f + t[1], f + t[2]}, margin));
+  selfTrees_.triangles.Build(boxes, ignored);
+  boxes.clear();
+  for (auto const& e : o.edges_) boxes.push_back(BoxOf(x_, {f + e[0], f + e[1]}, margin));
+  selfTrees_.edges.Build(boxes, ignored);
+  boxes.clear();
+  for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) boxes.push_back(BoxOf(x_, {f + i}, margin));
+  selfTrees_.vertices.Build(boxes, ignored);
+  return selfTrees_;
+}
+
 void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   Collider const& body = *colliders_[bodyIndex];
   Collider const& obstacle = *colliders_[obstacleIndex];
@@ -445,8 +488,13 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   real const dhat = params_.activationDistance;
   real const thickness = body.thickness_ + obstacle.thickness_;
   real const mu = std::sqrt(body.friction_ * obstacle.friction_);
+  bool const self = bodyIndex == obstacleIndex;
   auto add = [&](PairKind kind, std::array<int, 4> v, std::array<bool, 4> onBody, int count, real weight) {
     if (!(weight > 0)) return;
+    // self contact: never between primitives that share a vertex or that are
+    // already within reach in the rest shape (a rod's neighbouring segments
+    // are closer than its diameter)
+    if (self && (SharesVertex(v, count) || RestGap(bodyIndex, kind, v) <= dhat)) return;
     Pair pair;
     pair.kind = kind;
     pair.body = bodyIndex;
@@ -473,8 +521,9 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   }
   // the body's primitives over the stage: their start boxes inflated by the
   // displacement bound, d̂ and the thickness, against the obstacle's trees
-  real const margin = bound_.empty() ? dhat + thickness : dhat + thickness + bound_[fb];
-  ObstacleTrees const& trees = TreesOf(obstacleIndex);
+  real const reach = self ? selfBound_[bodyIndex] : bound_[fb];
+  real const margin = dhat + thickness + reach;
+  ObstacleTrees const& trees = self ? SelfTrees(bodyIndex) : TreesOf(obstacleIndex);
   DynamicArray<contact::Aabb>& boxes = boxScratch_;
   DynamicArray<contact::IndexPair>& found = pairScratch_;
   // body vertices against obstacle triangles, and free body vertices against
@@ -497,6 +546,18 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
     if (obstacle.freeVertex_[j] && body.freeVertex_[i])
       add(PairKind::PointPoint, {fb + i, fo + j, -1, -1}, {true, false, false, false}, 2,
           std::max(body.vertexArea_[i], obstacle.vertexArea_[j]));
+  if (self) {
+    // the loops below would find the same pairs again, from the other side
+    boxes.clear();
+    for (auto const& e : body.edges_) boxes.push_back(BoxOf(x_, {fb + e[0], fb + e[1]}, margin));
+    trees.edges.FindPairsWith(boxes, found);
+    for (auto [f, e] : found)
+      if (e < f)
+        add(PairKind::EdgeEdge, {fb + body.edges_[e][0], fb + body.edges_[e][1], fb + body.edges_[f][0],
+                                 fb + body.edges_[f][1]},
+            {true, true, false, false}, 4, std::max(body.edgeArea_[e], body.edgeArea_[f]));
+    return;
+  }
   // obstacle vertices against body triangles
   boxes.clear();
   for (auto const& t : body.triangles_) boxes.push_back(BoxOf(x_, {fb + t[0], fb + t[1], fb + t[2]}, margin));
@@ -522,6 +583,32 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
 }
 
 // ---- one pair ----
+
+bool ContactSystem::SharesVertex(std::array<int, 4> const& v, int count) {
+  for (int a = 0; a < count; ++a)
+    for (int b = a + 1; b < count; ++b)
+      if (v[a] == v[b]) return true;
+  return false;
+}
+
+real ContactSystem::RestGap(int colliderIndex, PairKind kind, std::array<int, 4> const& v) const {
+  // the pair's gap in the actor's rest shape (reference positions)
+  Collider const& c = *colliders_[colliderIndex];
+  auto rest = [&](int k) -> Real3 {
+    int const node = c.local_[v[k] - firstVertex_[colliderIndex]].node;
+    if (c.nodal_->GetType() == ActorType::Rod) return static_cast<RodActor const&>(*c.nodal_).GetNodeReferencePosition(node);
+    return static_cast<DeformableActor const&>(*c.nodal_).GetNodeReferencePosition(node);
+  };
+  real d2 = 0;
+  switch (kind) {
+    case PairKind::PointTriangle: d2 = contact::PointTriangleDistance2(rest(0), rest(1), rest(2), rest(3)); break;
+    case PairKind::EdgeEdge: d2 = contact::EdgeEdgeDistance2(rest(0), rest(1), rest(2), rest(3)); break;
+    case PairKind::PointEdge: d2 = contact::PointEdgeDistance2(rest(0), rest(1), rest(2)); break;
+    case PairKind::PointPoint: d2 = contact::PointPointDistance2(rest(0), rest(1)); break;
+    case PairKind::PlaneVertex: break;
+  }
+  return std::sqrt(d2) - 2 * c.thickness_;
+}
 
 real ContactSystem::Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12* gradient) const {
   auto const& v = pair.v;
@@ -892,6 +979,22 @@ real ContactSystem::LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x
   return 0;
 }
 
+real ContactSystem::SelfSafeStep(int c, real alpha) const {
+  int const first = firstVertex_[c], count = firstVertex_[c + 1] - first;
+  Real3 moved = Real3::Zero(), step = Real3::Zero();
+  for (int i = first; i < first + count; ++i) {
+    moved += (x_[i] - x0_[i]) / count;
+    step += displacement_[i] / count;
+  }
+  for (int i = first; i < first + count; ++i) {
+    real const rate = (displacement_[i] - step).norm();
+    if (rate == 0) continue;
+    real const room = selfBound_[c] - (x_[i] - x0_[i] - moved).norm();
+    alpha = std::min(alpha, std::max(room, real(0)) / rate);
+  }
+  return alpha;
+}
+
 real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
   UpdatePositions(x_);
   // each vertex's displacement along δ: exact for nodes (linear in α); a
@@ -922,6 +1025,10 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
     real const room = bound_[i] - (x_[i] - x0_[i]).norm();
     safe = std::min(safe, std::max(room, real(0)) / step);
   }
+  // the self-contact bound: each vertex's displacement relative to its
+  // body's mean displacement
+  for (int c = 0; c < static_cast<int>(colliders_.size()); ++c)
+    if (selfBound_[c] > 0) safe = std::min(safe, SelfSafeStep(c, safe));
   // continuous collision detection of every candidate along the step
   for (Pair const& pair : pairs_)
     safe = colliders_[pair.body]->rigid_ || colliders_[pair.obstacle]->rigid_ ? RigidPairCcd(pair, delta, safe)
@@ -935,6 +1042,15 @@ bool ContactSystem::AcceptsFirstIterate() const {
   for (std::size_t i = 0; i < x_.size(); ++i) {
     displacement_[i] = x_[i] - x0_[i];
     if (displacement_[i].norm() > bound_[i]) return false;
+  }
+  // and each self-contact body's vertices within its self bound of its mean
+  for (int c = 0; c < static_cast<int>(colliders_.size()); ++c) {
+    if (selfBound_[c] <= 0) continue;
+    int const first = firstVertex_[c], count = firstVertex_[c + 1] - first;
+    Real3 mean = Real3::Zero();
+    for (int i = first; i < first + count; ++i) mean += displacement_[i] / count;
+    for (int i = first; i < first + count; ++i)
+      if ((displacement_[i] - mean).norm() > selfBound_[c]) return false;
   }
   return std::all_of(pairs_.begin(), pairs_.end(),
                      [&](Pair const& pair) { return LinearPairCcd(pair, x0_, 1) >= 1; });

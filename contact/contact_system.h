@@ -180,6 +180,11 @@ class ContactSystem final : public StageTerm {
   bool CheckSeparated(int index, Error& error);
   void UpdatePositions(DynamicArray<Real3>& x) const;
   ObstacleTrees const& TreesOf(int obstacleIndex);
+  /// A body's trees for its self contact (this stage, inflated by its self bound).
+  ObstacleTrees const& SelfTrees(int index);
+  /// The largest α' <= alpha that keeps collider c's vertices within its
+  /// self bound of its mean displacement (x_ + α' displacement_).
+  real SelfSafeStep(int c, real alpha) const;
   /// Appends the candidate pairs of a body and an obstacle (vertices within
   /// the body's displacement bound, d̂ and the thickness).
   void AddPairs(int body, int obstacle);
@@ -198,6 +203,10 @@ class ContactSystem final : public StageTerm {
   contact::TangentialFriction PairFriction(Pair const& pair, DynamicArray<Real3> const& x) const;
   /// A rigid side's rotation since the stage start, φ = Log(R R⁰ᵀ) (world).
   Real3 StageTurn(Pair const& pair, int side) const;
+  /// Whether two of the pair's vertices are one.
+  static bool SharesVertex(std::array<int, 4> const& v, int count);
+  /// The gap of a self-contact pair of a nodal collider in its rest shape.
+  real RestGap(int colliderIndex, PairKind kind, std::array<int, 4> const& v) const;
   /// The number of DoFs of the pair's contributor (PairDofs).
   int PairDofCount(Pair const& pair) const;
   /// The safe fraction of a linear move of the pair's vertices from x by
@@ -215,6 +224,8 @@ class ContactSystem final : public StageTerm {
   mutable DynamicArray<Real3> x_;        ///< current positions (refreshed per evaluation)
   DynamicArray<Real3> x0_;               ///< stage start
   DynamicArray<real> bound_;             ///< per vertex displacement bound for the stage [m]
+  DynamicArray<real> selfBound_;         ///< per collider: bound relative to its mean (self contact) [m]
+  ObstacleTrees selfTrees_;
   DynamicArray<Pair> pairs_;
   DynamicArray<std::unique_ptr<ObstacleTrees>> trees_;  ///< per collider (obstacles only)
   DynamicArray<contact::Aabb> boxScratch_, treeBoxScratch_;
