@@ -36,7 +36,7 @@ install(TARGETS superdex
 
 # public headers, folder by folder; the file set is read at install time, so
 # headers added later need no reconfigure
-foreach(folder IN ITEMS core linsolve assembly stage actors constraints solver scene)
+foreach(folder IN LISTS SUPERDEX_LIBRARY_FOLDERS)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${folder}/
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/superdex/${folder}
     COMPONENT development
