@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <chrono>
 
+#include <superdex/core/stopwatch.h>
+
 namespace superdex::internal {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // Global version counter, so that patterns of different assemblers (and
 // successive builds of one) never share a version.

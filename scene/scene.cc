@@ -10,6 +10,7 @@
 #include <string_view>
 #include <type_traits>
 
+#include <superdex/core/stopwatch.h>
 #include <superdex/core/validate.h>
 #include <superdex/solver/newton_solver.h>
 
@@ -425,7 +426,7 @@ bool Scene::Step(real dt, Error& error) {
     time_ += dt;
     ++stats_.steps;
     stats_.substeps = 1;
-    stats_.stepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats_.stepSeconds = internal::SecondsSince(start);
     return true;
   }
 
@@ -446,7 +447,7 @@ bool Scene::Step(real dt, Error& error) {
     if (!solver_->Analyze(std::move(dofs), std::move(terms), params_.ordering, stats_, error)) return false;
     topologyChanged_ = false;
     stats_.analysisSeconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - analysisStart).count();
+        internal::SecondsSince(analysisStart);
   }
 
   // snapshot for a transactional step
@@ -501,7 +502,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.activeContacts = contact_.GetNumActive();
   stats_.minContactDistance = contact_.GetMinDistance();
   if (substeps > 1) ++stats_.substeppedSteps;
-  stats_.stepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats_.stepSeconds = internal::SecondsSince(start);
   return true;
 }
 

@@ -15,7 +15,7 @@ source scripts/build_options.sh
 start=${SECONDS}
 CC=clang CXX=clang++ superdex_configure build-asan -DCMAKE_BUILD_TYPE=Sanitize \
   -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" -DCMAKE_C_FLAGS_SANITIZE="-O1 -g1" \
-  -DSUPERDEX_SANITIZE=address,undefined -DSUPERDEX_FUZZ=ON -DSUPERDEX_BUILD_TESTS=ON \
+  -DSUPERDEX_SANITIZE=address,undefined -DSUPERDEX_FUZZ=ON -DSUPERDEX_BUILD_TESTS=ON -DSUPERDEX_UNITY_BUILD=ON \
   -DSUPERDEX_BUILD_EXAMPLES=OFF -DSUPERDEX_BUILD_PERF=OFF -DSUPERDEX_BUILD_PYTHON=OFF
 cmake --build build-asan -j"${SUPERDEX_BUILD_JOBS}"
 echo "test_sanitizers.sh: build $((SECONDS - start)) s"

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include <superdex/core/stopwatch.h>
 #include <superdex/linsolve/cholmod_solver.h>
 #include <superdex/solver/newton_params.h>
 #include <superdex/solver/scene_stats.h>
@@ -33,7 +34,6 @@ constexpr real kMaxReuseForcingTerm = 0.1;
 constexpr real kReuseStepAccuracy = 0.1;
 
 using Clock = std::chrono::steady_clock;
-double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 }  // namespace
 
 bool LinearStep::SetLinearSolver(LinearSolverType type, PcgParams const& pcg, Error& error) {

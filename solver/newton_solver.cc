@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include <superdex/core/stopwatch.h>
 #include <superdex/core/validate.h>
 #include <superdex/linsolve/petsc_distributed_matrix.h>
 
@@ -10,7 +11,6 @@ namespace superdex::internal {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 std::string Where(int stageIndex, int iteration) {
   return "stage " + std::to_string(stageIndex) + ", Newton iteration " + std::to_string(iteration);

@@ -2,15 +2,13 @@
 
 #include <chrono>
 
+#include <superdex/core/stopwatch.h>
 #include <superdex/solver/newton_params.h>
 #include <superdex/solver/scene_stats.h>
 
 namespace superdex::internal {
 
 namespace {
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 /// An own block and its global DoFs [begin, end).
 struct OwnBlockRange {

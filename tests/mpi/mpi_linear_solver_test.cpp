@@ -6,10 +6,10 @@
 // backend that read one would not match the one-process CHOLMOD solve. Every
 // rank must return the same status and the same x, bit for bit.
 //
-// A Catch2 program with its own main (MPI_Init, the test cases named on the
-// command line, MPI_Finalize). Checks between collective calls are CHECKs,
-// so that a failure on one rank does not leave the other waiting.
-#define CATCH_CONFIG_RUNNER
+// A Catch2 program with the MPI main (mpi_test_main.cpp: MPI_Init, the
+// test cases named on the command line, MPI_Finalize). Checks between
+// collective calls are CHECKs, so that a failure on one rank does not leave
+// the other waiting.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -358,11 +358,4 @@ TEST_CASE("a communicator of one rank inside an MPI job changes nothing", "[mpi]
     REQUIRE(solver->Solve(View(b), View(x)).Ok());
     CHECK(RelativeError(x, reference) <= 1e-9);
   }
-}
-
-int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  int const failed = Catch::Session().run(argc, argv);
-  MPI_Finalize();
-  return failed;
 }

@@ -1,9 +1,6 @@
 // Two MPI ranks, started by ctest through mpiexec (tests/mpi/CMakeLists.txt):
 // what the distributed solve will rest on (docs/distributed.md), checked
-// where it runs. A Catch2 program with its own main: MPI_Init, the test
-// cases named on the command line, MPI_Finalize; a rank whose checks fail
-// exits non-zero, and mpiexec fails the test.
-#define CATCH_CONFIG_RUNNER
+// where it runs (the MPI main: mpi_test_main.cpp).
 #include "test_scenes.h"
 
 #include <cstdint>
@@ -72,11 +69,4 @@ TEST_CASE("MUMPS on PETSC_COMM_SELF steps a beam to CHOLMOD's state on every ran
   for (std::size_t i = 0; i < mumps.size(); ++i) worst = std::max(worst, (mumps[i] - cholmod[i]).norm());
   CAPTURE(worst);
   REQUIRE(worst <= 1e-8 * 0.6);  // both solve each Newton system to round-off
-}
-
-int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  int const failed = Catch::Session().run(argc, argv);
-  MPI_Finalize();
-  return failed;
 }

@@ -4,7 +4,6 @@
 // `superdex_perf run --family F` builds them. Every rank also steps the
 // one-process scene itself (the default communicator), so each rank compares
 // its distributed result with its own reference.
-#define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
 
 #include <functional>
@@ -317,11 +316,4 @@ TEST_CASE("a Fortran handle that names no communicator is refused", "[mpi][refus
   params.communicator = ToCommunicator(MPI_COMM_NULL);
   REQUIRE_FALSE(Scene::Create(params, error));
   CHECK(error.GetMessage().find("is not a communicator of this process") != std::string::npos);
-}
-
-int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  int const failed = Catch::Session().run(argc, argv);
-  MPI_Finalize();
-  return failed == 0 ? 0 : 1;
 }
