@@ -116,6 +116,10 @@ contact::Aabb BoxOf(DynamicArray<Real3> const& x, std::initializer_list<int> ver
   return box;
 }
 
+contact::Aabb Merge(contact::Aabb const& a, contact::Aabb const& b) {
+  return {a.lower.cwiseMin(b.lower), a.upper.cwiseMax(b.upper)};
+}
+
 real TriangleArea(Real3 const& a, Real3 const& b, Real3 const& c) {
   return 0.5 * (b - a).cross(c - a).norm();
 }
@@ -158,12 +162,14 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
   c->nodal_ = nodal;
   if (rigid) c->actor_ = rigid->GetHandle();
   if (nodal) c->actor_ = nodal->GetHandle();
+  c->system_ = this;
+  c->created_ = c->start_ = c->target_ = c->now_ = c->stageStart_ = c->stageTarget_ = {p.position, p.rotation};
   DynamicArray<std::array<int, 3>> triangles;
   if (!MakeShape(p, *c, triangles, error) || !SetPrimitives(*c, std::move(triangles), error)) return nullptr;
   c->id_ = nextId_++;
   colliders_.push_back(std::move(c));
   trees_.clear();
-  if (!CheckSeparated(static_cast<int>(colliders_.size()) - 1, error)) {
+  if (!CheckSeparated(static_cast<int>(colliders_.size()) - 1, "CreateCollider", error)) {
     colliders_.pop_back();
     --nextId_;
     PrepareVertices();
@@ -179,6 +185,7 @@ bool ContactSystem::MakeShape(ColliderParams const& p, Collider& c, DynamicArray
     Collider::Vertex v;
     v.local = p.position + rotation * local;  // the body frame, or world for an obstacle
     c.local_.push_back(v);
+    c.shapeVertices_.push_back(local);
   };
   switch (p.shape) {
     case ShapeType::Plane:
@@ -187,7 +194,8 @@ bool ContactSystem::MakeShape(ColliderParams const& p, Collider& c, DynamicArray
         error.Set(ErrorCode::InvalidArgument, "normal: must be non-zero, got " + Format(p.normal));
         return false;
       }
-      c.planeNormal_ = (rotation * p.normal).normalized();
+      c.shapeNormal_ = p.normal;
+      c.planeNormal_ = (p.rotation * c.shapeNormal_).normalized();
       c.planeOffset_ = c.planeNormal_.dot(p.position);
       return true;
     case ShapeType::Sphere:
@@ -297,15 +305,20 @@ bool ContactSystem::SetPrimitives(Collider& c, DynamicArray<std::array<int, 3>> 
   return true;
 }
 
-bool ContactSystem::CheckSeparated(int index, Error& error) {
+bool ContactSystem::CheckSeparated(int index, std::string const& what, Error& error) {
   PrepareVertices();
   bound_.assign(x_.size(), 0);
   selfBound_.assign(colliders_.size(), 0);
   pairs_.clear();
   ++treeStamp_;
-  for (int other = 0; other < index; ++other) {
+  for (int other = 0; other < static_cast<int>(colliders_.size()); ++other) {
+    if (other == index) continue;
     if (MayTouch(index, other)) AddPairs(index, other);
     if (MayTouch(other, index)) AddPairs(other, index);
+  }
+  if (!CheckNoCrossing(index, what, error)) {
+    pairs_.clear();
+    return false;
   }
   for (Pair const& pair : pairs_) {
     real const gap = Gap(pair, x_);
@@ -313,7 +326,7 @@ bool ContactSystem::CheckSeparated(int index, Error& error) {
     Collider const& body = *colliders_[pair.body];
     Collider const& obstacle = *colliders_[pair.obstacle];
     error.Set(ErrorCode::InvalidArgument,
-              "CreateCollider: collider " + std::to_string(body.id_) + " (" + std::string(ToString(body.shape_)) +
+              what + ": collider " + std::to_string(body.id_) + " (" + std::string(ToString(body.shape_)) +
                   ") intersects collider " + std::to_string(obstacle.id_) + " (" +
                   std::string(ToString(obstacle.shape_)) + ") at " + Format(x_[pair.v[0]]) + " (gap " +
                   Format(gap) + " m, thicknesses included): colliders must start apart");
@@ -321,6 +334,40 @@ bool ContactSystem::CheckSeparated(int index, Error& error) {
     return false;
   }
   pairs_.clear();
+  return true;
+}
+
+bool ContactSystem::CheckNoCrossing(int index, std::string const& what, Error& error) {
+  // an edge of one collider through a triangle of the other, both ways:
+  // shapes that overlap deeply have no primitives within d̂ of each other
+  for (int other = 0; other < static_cast<int>(colliders_.size()); ++other) {
+    if (other == index || !(MayTouch(index, other) || MayTouch(other, index))) continue;
+    for (int side = 0; side < 2; ++side) {
+      int const ei = side == 0 ? index : other, ti = side == 0 ? other : index;
+      Collider const& ce = *colliders_[ei];
+      Collider const& ct = *colliders_[ti];
+      if (ce.edges_.empty() || ct.triangles_.empty()) continue;
+      int const fe = firstVertex_[ei], ft = firstVertex_[ti];
+      boxScratch_.clear();
+      for (auto const& e : ce.edges_) boxScratch_.push_back(BoxOf(x_, {fe + e[0], fe + e[1]}, 0));
+      TreesOf(ti).triangles.FindPairsWith(boxScratch_, pairScratch_);
+      for (auto [t, e] : pairScratch_) {
+        auto const& edge = ce.edges_[e];
+        auto const& tri = ct.triangles_[t];
+        Real3 const& s0 = x_[fe + edge[0]];
+        Real3 const& s1 = x_[fe + edge[1]];
+        if (!contact::SegmentMeetsTriangle(s0, s1, x_[ft + tri[0]], x_[ft + tri[1]], x_[ft + tri[2]])) continue;
+        error.Set(ErrorCode::InvalidArgument,
+                  what + ": collider " + std::to_string(colliders_[index]->id_) +
+                      " (" + std::string(ToString(colliders_[index]->shape_)) + ") intersects collider " +
+                      std::to_string(colliders_[other]->id_) + " (" + std::string(ToString(colliders_[other]->shape_)) +
+                      "): an edge of collider " + std::to_string(ce.id_) + " from " + Format(s0) + " to " +
+                      Format(s1) + " passes through a triangle of collider " + std::to_string(ct.id_) +
+                      "; colliders must start apart");
+        return false;
+      }
+    }
+  }
   return true;
 }
 
@@ -360,7 +407,148 @@ bool ContactSystem::MayTouch(int a, int b) const {
   return (ca.group_ & cb.mask_) && (cb.group_ & ca.mask_);
 }
 
+// ---- a static obstacle's motion ----
+
+namespace {
+/// The checks SetTransform and SetTargetTransform share.
+bool CheckObstaclePose(Collider const& c, std::string const& call, Real3 const& position, Quat const& rotation,
+                       Error& error) {
+  if (c.Moves()) {
+    error.Set(ErrorCode::InvalidArgument, call + ": collider " + std::to_string(c.GetId()) + " (" +
+                                              std::string(ToString(c.GetShape())) +
+                                              ") is carried by an actor; only a static obstacle (actor null) "
+                                              "is moved this way (move its actor)");
+    return false;
+  }
+  return CheckFinite(position, "position", error) && CheckUnitQuat(rotation, "rotation", error);
+}
+}  // namespace
+
+}  // namespace internal
+
+void Collider::Place(Pose const& p) {
+  if (now_ == p) return;
+  now_ = p;
+  ++poseVersion_;
+  if (shape_ == ShapeType::Plane) {
+    planeNormal_ = (p.rotation * shapeNormal_).normalized();
+    planeOffset_ = planeNormal_.dot(p.position);
+  }
+}
+
+bool Collider::SetTransform(Real3 const& position, Quat const& rotation, Error& error) {
+  if (!internal::CheckObstaclePose(*this, "SetTransform", position, rotation, error)) return false;
+  Pose const saved[] = {start_, target_, now_, stageStart_, stageTarget_};
+  Pose const pose{position, rotation.normalized()};
+  start_ = target_ = stageStart_ = stageTarget_ = pose;
+  Place(pose);
+  if (system_->CheckSeparated(system_->IndexOf(*this), "SetTransform", error)) return true;
+  start_ = saved[0];
+  target_ = saved[1];
+  stageStart_ = saved[3];
+  stageTarget_ = saved[4];
+  Place(saved[2]);
+  system_->PrepareVertices();
+  return false;
+}
+
+bool Collider::SetTargetTransform(Real3 const& position, Quat const& rotation, Error& error) {
+  if (!internal::CheckObstaclePose(*this, "SetTargetTransform", position, rotation, error)) return false;
+  target_ = {position, rotation.normalized()};
+  return true;
+}
+
+namespace internal {
+
+int ContactSystem::IndexOf(Collider const& collider) const {
+  for (std::size_t c = 0; c < colliders_.size(); ++c)
+    if (colliders_[c].get() == &collider) return static_cast<int>(c);
+  return -1;
+}
+
+void ContactSystem::RestoreState() {
+  anchors_ = savedAnchors_;
+  for (auto& c : colliders_) {
+    if (c->Moves()) continue;
+    c->stageStart_ = c->stageTarget_ = c->start_;
+    c->Place(c->start_);
+  }
+  progress_ = 1;
+}
+
+void ContactSystem::CommitStep() {
+  for (auto& c : colliders_) {
+    if (c->Moves()) continue;
+    c->Place(c->target_);
+    c->start_ = c->stageStart_ = c->stageTarget_ = c->target_;
+  }
+  stepFrom_ = 0;
+  stepTo_ = 1;
+}
+
+Real3 ContactSystem::KinematicDisplacement(Collider const& c, Real3 const& y0) {
+  // y0 carried rigidly from the stage-start pose to the pose now
+  Collider::Pose const& a = c.stageStart_;
+  Collider::Pose const& b = c.now_;
+  return b.position + b.rotation * (a.rotation.conjugate() * (y0 - a.position)) - y0;
+}
+
+void ContactSystem::KinematicDisplacements() const {
+  // a moving obstacle's vertices along their chords over the rest of its
+  // way this stage (per unit of Newton's α), a plane's shift along its
+  // normal; none once it is there
+  planeShift_.assign(colliders_.size(), 0);
+  if (progress_ >= 1) return;
+  for (std::size_t c = 0; c < colliders_.size(); ++c) {
+    Collider const& col = *colliders_[c];
+    if (col.Moves() || !Sweeps(col)) continue;
+    for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i)
+      displacement_[i] = col.PlaceVertex(i - firstVertex_[c], col.stageTarget_) - x_[i];
+    if (col.shape_ == ShapeType::Plane)
+      planeShift_[c] = col.planeNormal_.dot(col.stageTarget_.position - col.now_.position);
+  }
+}
+
+bool ContactSystem::AdvanceTarget(real fraction) {
+  if (progress_ >= 1) return true;
+  real const to = fraction >= 1 ? real(1) : progress_ + fraction * (1 - progress_);
+  auto poseAt = [&](Collider const& c, real f) {
+    return f >= 1 ? c.stageTarget_ : Collider::Interpolate(c.stageStart_, c.stageTarget_, f);
+  };
+  for (auto& c : colliders_)
+    if (!c->Moves() && Sweeps(*c)) c->Place(poseAt(*c, to));
+  // the bodies where the step left them, the obstacles at their new poses
+  // (on their arcs, not the chords the safe step checked): every candidate apart
+  UpdatePositions(x_);
+  bool const apart = std::all_of(pairs_.begin(), pairs_.end(), [&](Pair const& pair) {
+    Collider const& o = *colliders_[pair.obstacle];
+    return o.Moves() || !Sweeps(o) || Gap(pair, x_) > 0;
+  });
+  if (!apart) {
+    for (auto& c : colliders_)
+      if (!c->Moves() && Sweeps(*c)) c->Place(poseAt(*c, progress_));
+    UpdatePositions(x_);
+    return false;
+  }
+  progress_ = to;
+  return true;
+}
+
 // ---- positions ----
+
+}  // namespace internal
+
+void Collider::GetWorldVertices(DynamicArray<Real3>& vertices) const {
+  vertices.resize(local_.size());
+  for (std::size_t i = 0; i < local_.size(); ++i) {
+    Vertex const& v = local_[i];
+    vertices[i] = rigid_ ? rigid_->TransformPoint(v.local)
+                  : nodal_ ? nodal_->GetNodePosition(v.node)
+                           : PlaceVertex(static_cast<int>(i), now_);
+  }
+}
+
+namespace internal {
 
 void ContactSystem::UpdatePositions(DynamicArray<Real3>& x) const {
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
@@ -373,7 +561,7 @@ void ContactSystem::UpdatePositions(DynamicArray<Real3>& x) const {
     } else if (col.nodal_) {
       for (std::size_t i = 0; i < col.local_.size(); ++i) x[first + i] = col.nodal_->GetNodePosition(col.local_[i].node);
     } else {
-      for (std::size_t i = 0; i < col.local_.size(); ++i) x[first + i] = col.local_[i].local;
+      for (std::size_t i = 0; i < col.local_.size(); ++i) x[first + i] = col.PlaceVertex(static_cast<int>(i), col.now_);
     }
   }
 }
@@ -381,12 +569,28 @@ void ContactSystem::UpdatePositions(DynamicArray<Real3>& x) const {
 // ---- candidates ----
 
 void ContactSystem::BeginStage(StageContext const& stage) {
+  // the kinematic obstacles' share of their step's motion: from where they
+  // are to the pose at the stage's end (reached by AdvanceTarget)
+  progress_ = 1;
+  for (auto& c : colliders_) {
+    if (c->Moves()) continue;
+    auto at = [&](real f) {
+      return c->start_ == c->target_ || f <= 0 ? c->start_
+             : f >= 1                          ? c->target_
+                                               : Collider::Interpolate(c->start_, c->target_, f);
+    };
+    c->stageStart_ = at(stepFrom_);
+    c->stageTarget_ = at(stepTo_);
+    c->Place(c->stageStart_);
+    if (Sweeps(*c)) progress_ = 0;
+  }
   PrepareVertices();
   // each vertex's displacement bound for the stage: twice the free motion
   // (velocity and gravity over the stage) of the body's fastest vertex, plus
   // d̂. The body's fastest, not the vertex's own: a vertex at rest is pushed
   // by the rest of its body (a ball's bottom spreads as its top lands on it)
   real const h = stage.coefficients.duration;
+  real const pushed = KinematicTravel();  // a moving obstacle can push a body this far
   bound_.assign(x_.size(), 0);
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
     Collider const& col = *colliders_[c];
@@ -400,7 +604,8 @@ void ContactSystem::BeginStage(StageContext const& stage) {
         speed = std::max(speed, col.nodal_->GetNodeVelocity(col.local_[i - firstVertex_[c]].node).norm());
       }
     }
-    real const bound = 2 * (speed * h + stage.gravity.norm() * h * h) + params_.activationDistance;
+    real const bound =
+        2 * (speed * h + stage.gravity.norm() * h * h + pushed) + params_.activationDistance;
     std::fill(bound_.begin() + firstVertex_[c], bound_.begin() + firstVertex_[c + 1], bound);
   }
   // self contact: only a body's deformation brings its primitives together,
@@ -433,6 +638,30 @@ void ContactSystem::BeginStage(StageContext const& stage) {
   for (Pair& pair : pairs_) LagFriction(pair);
 }
 
+real ContactSystem::KinematicTravel() const {
+  // how far a moving obstacle can push a body this stage: the longest path
+  // of its vertices (a plane's: its shift, and its turn over the reach of
+  // the bodies' vertices)
+  real travel = 0, reach = 0;
+  for (std::size_t c = 0; c < colliders_.size(); ++c)
+    if (colliders_[c]->Moves())
+      for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) reach = std::max(reach, x_[i].norm());
+  for (auto const& c : colliders_) {
+    if (c->Moves() || !Sweeps(*c)) continue;
+    real const angle = c->stageStart_.rotation.angularDistance(c->stageTarget_.rotation);
+    real const shift = (c->stageTarget_.position - c->stageStart_.position).norm();
+    if (c->shape_ == ShapeType::Plane) {
+      travel = std::max(travel, shift + angle * (reach + c->stageStart_.position.norm()));
+      continue;
+    }
+    for (std::size_t i = 0; i < c->local_.size(); ++i)
+      travel = std::max(travel, (c->PlaceVertex(static_cast<int>(i), c->stageTarget_) -
+                                 c->PlaceVertex(static_cast<int>(i), c->stageStart_)).norm() +
+                                    angle * angle / 8 * c->shapeVertices_[i].norm());
+  }
+  return travel;
+}
+
 ContactSystem::ObstacleTrees const& ContactSystem::TreesOf(int obstacleIndex) {
   if (trees_.size() != colliders_.size()) {
     trees_.clear();
@@ -440,23 +669,44 @@ ContactSystem::ObstacleTrees const& ContactSystem::TreesOf(int obstacleIndex) {
   }
   std::unique_ptr<ObstacleTrees>& trees = trees_[obstacleIndex];
   Collider const& o = *colliders_[obstacleIndex];
-  // a static obstacle's trees are built once; a body's once per stage, over
-  // its primitives' boxes inflated by its displacement bound
-  if (!trees || (o.Moves() && trees->stamp != treeStamp_)) {
+  // a static obstacle's trees are built once per pose; a body's once per
+  // stage, over its primitives' boxes inflated by its displacement bound; a
+  // kinematic obstacle's once per stage over its sweep (the boxes at its
+  // stage start and end, inflated by the arc's distance from the chord)
+  bool const sweeps = !o.Moves() && Sweeps(o);
+  if (!trees || ((o.Moves() || sweeps) && trees->stamp != treeStamp_) ||
+      (!o.Moves() && trees->poseVersion != o.poseVersion_)) {
     if (!trees) trees = std::make_unique<ObstacleTrees>();
     trees->stamp = treeStamp_;
+    trees->poseVersion = o.poseVersion_;
     int const f = firstVertex_[obstacleIndex];
-    real const margin = o.Moves() && !bound_.empty() ? bound_[f] : 0;
+    real margin = o.Moves() && !bound_.empty() ? bound_[f] : 0;
+    DynamicArray<Real3>& end = sweepScratch_;
+    end = x_;
+    if (sweeps) {
+      real radius = 0;
+      for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) {
+        end[f + i] = o.PlaceVertex(i, o.stageTarget_);
+        radius = std::max(radius, o.shapeVertices_[i].norm());
+      }
+      real const angle = o.stageStart_.rotation.angularDistance(o.stageTarget_.rotation);
+      margin += radius * angle * angle / 8;  // r (1 − cos(θ/2)) <= r θ²/8
+    }
+    auto box = [&](std::initializer_list<int> v) {
+      contact::Aabb b = BoxOf(x_, v, margin);
+      if (sweeps) b = Merge(b, BoxOf(end, v, margin));
+      return b;
+    };
     DynamicArray<contact::Aabb>& boxes = treeBoxScratch_;
     Error ignored;  // the boxes are finite: the shape was validated
     boxes.clear();
-    for (auto const& t : o.triangles_) boxes.push_back(BoxOf(x_, {f + t[0], f + t[1], f + t[2]}, margin));
+    for (auto const& t : o.triangles_) boxes.push_back(box({f + t[0], f + t[1], f + t[2]}));
     trees->triangles.Build(boxes, ignored);
     boxes.clear();
-    for (auto const& e : o.edges_) boxes.push_back(BoxOf(x_, {f + e[0], f + e[1]}, margin));
+    for (auto const& e : o.edges_) boxes.push_back(box({f + e[0], f + e[1]}));
     trees->edges.Build(boxes, ignored);
     boxes.clear();
-    for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) boxes.push_back(BoxOf(x_, {f + i}, margin));
+    for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) boxes.push_back(box({f + i}));
     trees->vertices.Build(boxes, ignored);
   }
   return *trees;
@@ -512,8 +762,18 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   };
   int const nb = static_cast<int>(body.local_.size());
   if (obstacle.shape_ == ShapeType::Plane) {
+    // a moving plane: the nearer of its gaps at the stage start and end,
+    // less what its turn can add between them
+    bool const sweeps = Sweeps(obstacle);
+    Real3 const endNormal = (obstacle.stageTarget_.rotation * obstacle.shapeNormal_).normalized();
+    real const endOffset = endNormal.dot(obstacle.stageTarget_.position);
+    real const angle = obstacle.stageStart_.rotation.angularDistance(obstacle.stageTarget_.rotation);
     for (int i = 0; i < nb; ++i) {
-      real const gap = obstacle.planeNormal_.dot(x_[fb + i]) - obstacle.planeOffset_ - thickness;
+      real gap = obstacle.planeNormal_.dot(x_[fb + i]) - obstacle.planeOffset_ - thickness;
+      if (sweeps)
+        gap = std::min(gap, endNormal.dot(x_[fb + i]) - endOffset - thickness) -
+              angle * ((x_[fb + i] - obstacle.stageStart_.position).norm() +
+                       (obstacle.stageTarget_.position - obstacle.stageStart_.position).norm());
       if (gap < dhat + bound_[fb + i])
         add(PairKind::PlaneVertex, {fb + i, -1, -1, -1}, {true, false, false, false}, 1, body.vertexArea_[i]);
     }
@@ -663,6 +923,14 @@ Real3 ContactSystem::Slip(Pair const& pair, DynamicArray<Real3> const& x) const 
     } else if (c.nodal_) {
       for (int k = 0; k < pair.numVertices; ++k)
         if (pair.onBody[k] == (side == 0)) slip += pair.gamma[k] * (x[pair.v[k]] - x0_[pair.v[k]]);
+    } else if (Sweeps(c)) {
+      // a kinematic obstacle (side B): its material point at the contact
+      if (pair.kind == PairKind::PlaneVertex) {
+        slip -= KinematicDisplacement(c, x0_[pair.v[0]]);
+      } else {
+        for (int k = 0; k < pair.numVertices; ++k)
+          if (!pair.onBody[k]) slip += pair.gamma[k] * (x[pair.v[k]] - x0_[pair.v[k]]);
+      }
     }
   }
   return slip;
@@ -878,6 +1146,24 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
     Real33 const stiffness = pair.basis * friction.hessian * pair.basis.transpose();
     // the projected barrier and the friction (PSD by construction): PSD
     DofVector gq = J.topRows(n).transpose() * e.gradient.head(n) + Jf.transpose() * force;
+    // an obstacle on its way to its stage target: the barrier's gradient
+    // after the rest of that way, to first order (H Δo over its vertices; a
+    // plane's shift s moves the gap by −s), so that the step carries the
+    // body along
+    if (Collider const& o = *colliders_[pair.obstacle]; !o.Moves() && progress_ < 1 && Sweeps(o)) {
+      Vector12 moved = Vector12::Zero();
+      if (pair.kind == PairKind::PlaneVertex) {
+        moved.head<3>() = -o.planeNormal_.dot(o.stageTarget_.position - o.now_.position) * o.planeNormal_;
+      } else {
+        for (int k = 0; k < pair.numVertices; ++k)
+          if (!pair.onBody[k])
+            moved.segment<3>(3 * k) =
+                o.PlaceVertex(pair.v[k] - firstVertex_[pair.obstacle], o.stageTarget_) - x_[pair.v[k]];
+      }
+      // (H's columns of the obstacle's vertices; a plane's shift as the body
+      // vertex's opposite move)
+      gq += J.topRows(n).transpose() * (e.hessian.topLeftCorner(n, n) * moved.head(n));
+    }
     DofMatrix Hq = J.topRows(n).transpose() * e.hessian.topLeftCorner(n, n) * J.topRows(n) +
                    Jf.transpose() * stiffness * Jf;
     if (!options.projectHessian)
@@ -937,6 +1223,7 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
   }
   real const gap0 = Gap(pair, x_);
   if (!(gap0 > 0)) return 0;
+  speed += std::abs(planeShift_[pair.obstacle]);
   if (speed == 0) return tMax;
   real const target = (1 - contact::kCcdRescale) * gap0;
   real const stop = contact::kCcdStopFraction * contact::kCcdRescale * gap0;
@@ -952,7 +1239,7 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
                                     : Real3(x + t * displacement_[pair.v[k]]);
       }
     }
-    real const gap = Gap(pair, trial_);
+    real const gap = Gap(pair, trial_) - t * planeShift_[pair.obstacle];  // a moving plane's shift
     if (gap - target <= stop) return t;
     t += (gap - target) / speed;
     if (t >= tMax) return tMax;
@@ -966,7 +1253,7 @@ real ContactSystem::LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x
   switch (pair.kind) {
     case PairKind::PlaneVertex: {
       Collider const& plane = *colliders_[pair.obstacle];
-      return contact::PointPlaneCcd(x[v[0]], dx(0), thickness, plane.planeNormal_, plane.planeOffset_, 0, 1);
+      return contact::PointPlaneCcd(x[v[0]], dx(0), thickness, plane.planeNormal_, plane.planeOffset_, scale * planeShift_[pair.obstacle], 1);
     }
     case PairKind::PointTriangle:
       return contact::PointTriangleCcd(x[v[0]], x[v[1]], x[v[2]], x[v[3]], dx(0), dx(1), dx(2), dx(3), thickness, 1);
@@ -1017,14 +1304,16 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
       }
     }
   }
+  KinematicDisplacements();
   real safe = alpha;
-  // the stage's displacement bound of every vertex
-  for (std::size_t i = 0; i < x_.size(); ++i) {
+  // the stage's displacement bound of every body's vertex
+  for (std::size_t c = 0; c < colliders_.size(); ++c)
+    for (int i = firstVertex_[c]; i < firstVertex_[c + 1] && colliders_[c]->Moves(); ++i) {
     real const step = displacement_[i].norm();
     if (step == 0) continue;
     real const room = bound_[i] - (x_[i] - x0_[i]).norm();
     safe = std::min(safe, std::max(room, real(0)) / step);
-  }
+    }
   // the self-contact bound: each vertex's displacement relative to its
   // body's mean displacement
   for (int c = 0; c < static_cast<int>(colliders_.size()); ++c)
@@ -1038,7 +1327,9 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
 
 bool ContactSystem::AcceptsFirstIterate() const {
   // the move from the stage start to the first iterate, as a linear step
+  // (the obstacles where they were at the stage start)
   UpdatePositions(x_);
+  planeShift_.assign(colliders_.size(), 0);
   for (std::size_t i = 0; i < x_.size(); ++i) {
     displacement_[i] = x_[i] - x0_[i];
     if (displacement_[i].norm() > bound_[i]) return false;

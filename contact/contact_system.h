@@ -23,12 +23,14 @@
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
+#include <utility>
 
 #include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/contact/collider.h>
 #include <superdex/contact/barrier.h>
 #include <superdex/contact/bvh.h>
+#include <superdex/contact/ccd.h>
 #include <superdex/contact/contact_params.h>
 #include <superdex/contact/distance.h>
 #include <superdex/stage/stage_term.h>
@@ -61,17 +63,69 @@ class Collider {
   int GetNumTriangles() const { return static_cast<int>(triangles_.size()); }
   /// Carried by an actor (a body), not a static obstacle.
   bool Moves() const { return rigid_ != nullptr || nodal_ != nullptr; }
+  std::uint32_t GetGroup() const { return group_; }
+  std::uint32_t GetMask() const { return mask_; }
 
-  /// Internal: geometry as the contact system reads it. Not part of the API.
-  struct Vertex {
-    Real3 local = Real3::Zero();  ///< body frame (rigid) or world (static)
-    int node = -1;                ///< node index (Surface)
-  };
-  DynamicArray<Vertex> const& Vertices() const { return local_; }
-  DynamicArray<std::array<int, 2>> const& Edges() const { return edges_; }
-  DynamicArray<std::array<int, 3>> const& Triangles() const { return triangles_; }
+  /// The shape as primitives, each thickened by GetThickness(): its
+  /// vertices in the world at the carrying actor's current state (a rigid
+  /// actor's pose, a deformable or rod actor's nodes: vertex i is node i),
+  /// the edges and triangles between them, and its points — vertices on no
+  /// edge that touch as spheres (a Sphere's centre; a solid's interior nodes
+  /// are vertices but no points). A Plane has no vertices: its half-space
+  /// n·x <= c (GetPlaneNormal, GetPlaneOffset) is inside.
+  void GetWorldVertices(DynamicArray<Real3>& vertices) const;
+  DynamicArray<std::array<int, 2>> const& GetEdges() const { return edges_; }
+  DynamicArray<std::array<int, 3>> const& GetTriangles() const { return triangles_; }
+  bool IsPoint(int vertex) const { return freeVertex_[vertex] && vertexArea_[vertex] > 0; }
+  /// The thickness around every primitive [m]: a Sphere's, Capsule's or
+  /// rod's radius, otherwise ColliderParams::thickness.
+  real GetThickness() const { return thickness_; }
+  Real3 GetPlaneNormal() const { return planeNormal_; }
+  real GetPlaneOffset() const { return planeOffset_; }
+
+  /// The pose of the shape's frame (ColliderParams::position, rotation):
+  /// local to its actor, or a static obstacle's in the world, now.
+  Real3 GetPosition() const { return now_.position; }
+  Quat GetRotation() const { return now_.rotation; }
+  /// Moves a static obstacle to `position`, `rotation` at once (a teleport:
+  /// no bodies are pushed). InvalidArgument, naming the field, for a
+  /// collider carried by an actor (move the actor) or a bad pose, and,
+  /// naming both colliders and where, when the obstacle would then intersect
+  /// a body; nothing changes then. Cancels a pending SetTargetTransform.
+  bool SetTransform(Real3 const& position, Quat const& rotation, Error& error);
+  /// Moves a static obstacle kinematically over the next Scene::Step: from
+  /// its pose at the step start to this one, the position linearly in time
+  /// and the rotation along the shortest arc (substeps take their share). It
+  /// is infinitely heavy: bodies in its way are pushed through the barrier,
+  /// never passed through. The pose holds after the step; a failed step
+  /// leaves the target pending. InvalidArgument as SetTransform for a body's
+  /// collider or a bad pose.
+  bool SetTargetTransform(Real3 const& position, Quat const& rotation, Error& error);
 
  private:
+  /// A vertex as the contact system reads it
+  struct Vertex {
+    Real3 local = Real3::Zero();  ///< body frame (rigid) or world (static, at creation)
+    int node = -1;                ///< node index (Surface)
+  };
+  struct Pose {
+    Real3 position = Real3::Zero();
+    Quat rotation = Quat::Identity();
+    bool operator==(Pose const& o) const {
+      return position == o.position && rotation.coeffs() == o.rotation.coeffs();
+    }
+  };
+  /// The pose a fraction f of the way from a to b.
+  static Pose Interpolate(Pose const& a, Pose const& b, real f) {
+    return {a.position + f * (b.position - a.position), a.rotation.slerp(f, b.rotation)};
+  }
+  /// A static obstacle's vertex at pose `p` (its creation-time vertex while
+  /// it has never moved, bit for bit).
+  Real3 PlaceVertex(int i, Pose const& p) const {
+    return p == created_ ? local_[i].local : Real3(p.position + p.rotation * shapeVertices_[i]);
+  }
+  /// Moves a static obstacle's pose (and a Plane's normal and offset) to `p`.
+  void Place(Pose const& p);
   friend class internal::ContactSystem;
   Collider() = default;
 
@@ -92,6 +146,14 @@ class Collider {
   DynamicArray<std::array<int, 3>> triangles_;
   DynamicArray<char> freeVertex_, freeEdge_;  ///< on no edge / on no triangle
   DynamicArray<real> vertexArea_, edgeArea_;  ///< area each stands for [m²]
+  // a static obstacle's motion: its poses at creation, at the step start,
+  // the step's target and now; its vertices and plane normal in its frame
+  internal::ContactSystem* system_ = nullptr;
+  Pose created_, start_, target_, now_;
+  Pose stageStart_, stageTarget_;  ///< this stage's share of the step's motion
+  std::uint64_t poseVersion_ = 0;  ///< counts changes of now_
+  DynamicArray<Real3> shapeVertices_;
+  Real3 shapeNormal_ = Real3::Zero();
 };
 
 namespace internal {
@@ -109,15 +171,27 @@ class ContactSystem final : public StageTerm {
   bool Empty() const { return colliders_.empty(); }
   int GetNumColliders() const { return static_cast<int>(colliders_.size()); }
   Collider const* GetCollider(int id) const;
+  Collider* GetCollider(int id) { return const_cast<Collider*>(std::as_const(*this).GetCollider(id)); }
 
   void GetContacts(DynamicArray<ContactInfo>& contacts) const;
   int GetNumCandidates() const { return static_cast<int>(pairs_.size()); }
   int GetNumActive() const { return active_; }
   real GetMinDistance() const { return minDistance_; }
 
-  /// Friction anchors committed by the last EndStage, for transactional steps.
+  /// Friction anchors committed by the last EndStage, for transactional
+  /// steps; RestoreState also returns the kinematic obstacles to their poses
+  /// at the step start (their targets stay pending).
   void SaveState() { savedAnchors_ = anchors_; }
-  void RestoreState() { anchors_ = savedAnchors_; }
+  void RestoreState();
+  /// The part of the step the next stage covers, as fractions of the step
+  /// [from, to] (substeps; 0 and 1 otherwise): kinematic obstacles move that
+  /// share of their way to their targets.
+  void SetStepFraction(real from, real to) {
+    stepFrom_ = from;
+    stepTo_ = to;
+  }
+  /// After a successful step: the kinematic obstacles' targets become their poses.
+  void CommitStep();
 
   // StageTerm
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>&) const override {}
@@ -129,6 +203,8 @@ class ContactSystem final : public StageTerm {
   bool BoundsSteps() const override { return !colliders_.empty(); }
   real LargestSafeStep(Span<real const> delta, real alpha) const override;
   bool AcceptsFirstIterate() const override;
+  bool AtTarget() const override { return progress_ >= 1; }
+  bool AdvanceTarget(real fraction) override;
   void EndStage() override;
 
   enum class PairKind : std::uint8_t { PlaneVertex, PointTriangle, EdgeEdge, PointEdge, PointPoint };
@@ -162,6 +238,7 @@ class ContactSystem final : public StageTerm {
   struct ObstacleTrees {
     contact::Bvh triangles, edges, vertices;
     std::uint64_t stamp = 0;  ///< a body's trees: the stage they were built for
+    std::uint64_t poseVersion = 0;  ///< a static obstacle's: the pose they were built at
   };
 
   /// The shape's vertices (and a Plane's normal, a Box's triangles),
@@ -175,9 +252,24 @@ class ContactSystem final : public StageTerm {
   bool MayTouch(int a, int b) const;
   /// Vertex numbering and positions (x_ = x0_) of the current colliders.
   void PrepareVertices();
+  friend class superdex::Collider;
   /// InvalidArgument naming both colliders where collider `index` starts at
-  /// or below zero gap with another it may touch.
-  bool CheckSeparated(int index, Error& error);
+  /// or below zero gap with another it may touch; `what` names the call.
+  bool CheckSeparated(int index, std::string const& what, Error& error);
+  /// InvalidArgument where an edge of collider `index` passes through a
+  /// triangle of a collider it may touch, or the other way.
+  bool CheckNoCrossing(int index, std::string const& what, Error& error);
+  int IndexOf(Collider const& collider) const;
+  /// Whether a static obstacle moves in this stage.
+  static bool Sweeps(Collider const& c) { return !(c.stageStart_ == c.stageTarget_); }
+  /// The farthest a moving obstacle's surface travels this stage [m] (0 with none).
+  real KinematicTravel() const;
+  /// displacement_ of the moving obstacles' vertices and planeShift_ over
+  /// the rest of their way this stage (zero once there).
+  void KinematicDisplacements() const;
+  /// A kinematic side's displacement of its material point y0 (at the
+  /// stage start) since the stage start.
+  static Real3 KinematicDisplacement(Collider const& c, Real3 const& y0);
   void UpdatePositions(DynamicArray<Real3>& x) const;
   ObstacleTrees const& TreesOf(int obstacleIndex);
   /// A body's trees for its self contact (this stage, inflated by its self bound).
@@ -229,12 +321,18 @@ class ContactSystem final : public StageTerm {
   DynamicArray<Pair> pairs_;
   DynamicArray<std::unique_ptr<ObstacleTrees>> trees_;  ///< per collider (obstacles only)
   DynamicArray<contact::Aabb> boxScratch_, treeBoxScratch_;
+  DynamicArray<Real3> sweepScratch_;
   std::uint64_t treeStamp_ = 0;
   DynamicArray<contact::IndexPair> pairScratch_;
   std::unordered_map<std::uint64_t, Real3> anchors_, savedAnchors_;
   mutable DynamicArray<Real3> displacement_, trial_;
   int active_ = 0;
   real minDistance_ = 0;
+  real stepFrom_ = 0, stepTo_ = 1;  ///< SetStepFraction
+  /// per collider: a moving Plane's shift along its normal over the rest
+  /// of its way this stage (the safe step's)
+  mutable DynamicArray<real> planeShift_;
+  real progress_ = 1;  ///< of the kinematic obstacles along this stage's move
 };
 
 }  // namespace internal

@@ -1,5 +1,8 @@
 #include <superdex/contact/distance.h>
 
+#include <algorithm>
+#include <limits>
+
 #include <superdex/core/so3.h>
 
 #include <algorithm>
@@ -786,6 +789,30 @@ TangentFrame<12> EdgeEdgeTangentFrame(Real3 const& ea0, Real3 const& ea1, Real3 
   }
   frame.weights = EdgeEdgeDisplacementWeights(alphaBeta);
   return frame;
+}
+
+bool SegmentMeetsTriangle(Real3 const& s0, Real3 const& s1, Real3 const& t0, Real3 const& t1, Real3 const& t2) {
+  auto orient = [](Real3 const& a, Real3 const& b, Real3 const& c, Real3 const& d) {
+    return (b - a).cross(c - a).dot(d - a);
+  };
+  // volumes below round-off of the primitives' size count as zero: a flat
+  // sheet's edges and triangles are coplanar, not crossing by noise
+  real const size = std::max({(s1 - s0).norm(), (t1 - t0).norm(), (t2 - t1).norm(), (t0 - t2).norm()});
+  real const eps = 64 * std::numeric_limits<real>::epsilon() * size * size * size;
+  auto sign = [&](real v) { return v > eps ? 1 : v < -eps ? -1 : 0; };
+  int const v0 = sign(orient(t0, t1, t2, s0)), v1 = sign(orient(t0, t1, t2, s1));
+  if (v0 * v1 > 0) return false;
+  real const touch = 64 * std::numeric_limits<real>::epsilon() * size;
+  if (v0 == 0 || v1 == 0) {  // an end on the plane, or the whole segment in it: where the distance is zero
+    real d2 = std::min(v0 == 0 ? PointTriangleDistance2(s0, t0, t1, t2) : real(1e300),
+                       v1 == 0 ? PointTriangleDistance2(s1, t0, t1, t2) : real(1e300));
+    if (v0 == 0 && v1 == 0)
+      d2 = std::min({d2, EdgeEdgeDistance2(s0, s1, t0, t1), EdgeEdgeDistance2(s0, s1, t1, t2),
+                     EdgeEdgeDistance2(s0, s1, t2, t0)});
+    return d2 <= touch * touch;
+  }
+  int const a = sign(orient(s0, s1, t0, t1)), b = sign(orient(s0, s1, t1, t2)), c = sign(orient(s0, s1, t2, t0));
+  return (a >= 0 && b >= 0 && c >= 0) || (a <= 0 && b <= 0 && c <= 0);
 }
 
 }  // namespace superdex::contact

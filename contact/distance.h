@@ -214,6 +214,12 @@ real PointEdgeDistance2(Real3 const& p, Real3 const& e0, Real3 const& e1);
 real PointTriangleDistance2(Real3 const& p, Real3 const& t0, Real3 const& t1, Real3 const& t2);
 real EdgeEdgeDistance2(Real3 const& ea0, Real3 const& ea1, Real3 const& eb0, Real3 const& eb1);
 
+/// Whether segment s0–s1 meets triangle t0 t1 t2 (touching counts): the
+/// ends on both sides of (or on) the triangle's plane and the segment's line
+/// through the triangle (the signs of five orientation volumes; a coplanar
+/// segment meets it where their distance is zero).
+bool SegmentMeetsTriangle(Real3 const& s0, Real3 const& s1, Real3 const& t0, Real3 const& t1, Real3 const& t2);
+
 // ------------------------------------------------- edge–edge mollifier
 
 /// ε× = 1e-3 ‖ea1 − ea0‖² ‖eb1 − eb0‖² at rest [m⁴]: below c = ε× the

@@ -498,6 +498,7 @@ bool Scene::Step(real dt, Error& error) {
   historyStep_ = historyStep;
   time_ += dt;
   ++stats_.steps;
+  contact_.CommitStep();
   stats_.contactCandidates = contact_.GetNumCandidates();
   stats_.activeContacts = contact_.GetNumActive();
   stats_.minContactDistance = contact_.GetMinDistance();
@@ -575,6 +576,8 @@ bool Scene::AdvanceSubsteps(real dt, int substeps, real& historyStep, int& faile
   real const h = dt / substeps;
   for (int index = 1; index <= substeps; ++index) {
     if (substeps > 1) SetSubstepTargets(index, substeps);
+    contact_.SetStepFraction(static_cast<real>(index - 1) / substeps,
+                             index == substeps ? real(1) : static_cast<real>(index) / substeps);
     // BDF2 uses the history only when it spans a step of this size
     internal::StageContext stage;
     stage.coefficients = internal::MakeStage(params_.integrator, h, internal::IsHistoryUsable(historyStep, h));

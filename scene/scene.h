@@ -133,6 +133,9 @@ class Scene : private internal::ActorLookup {
   int GetNumColliders() const { return contact_.GetNumColliders(); }
   /// The collider of that id, or nullptr (never created, or destroyed with its actor).
   Collider const* GetCollider(int id) const { return contact_.GetCollider(id); }
+  /// A collider to move (a static obstacle's Collider::SetTransform,
+  /// SetTargetTransform), or nullptr.
+  Collider* GetCollider(int id) { return contact_.GetCollider(id); }
   /// The contacts closer than the activation distance at the last step's end.
   void GetContacts(DynamicArray<ContactInfo>& contacts) const { contact_.GetContacts(contacts); }
 

@@ -6,7 +6,7 @@
 # final statistics per target; exits non-zero when a target found a crash.
 # The targets run side by side, as many at a time as there are cores.
 #
-#   bash scripts/fuzz.sh [SECONDS [TARGET...]]    targets: obj gmsh tetgen scene_api
+#   bash scripts/fuzz.sh [SECONDS [TARGET...]]    targets: obj gmsh tetgen scene_api contact
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 source scripts/env.sh
@@ -14,7 +14,7 @@ source scripts/env.sh
 seconds=${1:-60}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(obj gmsh tetgen scene_api)
+((${#targets[@]})) || targets=(obj gmsh tetgen scene_api contact)
 
 # as in test_sanitizers.sh: no LeakSanitizer (Open MPI's unloaded plugins)
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"

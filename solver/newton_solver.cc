@@ -178,13 +178,20 @@ bool NewtonSolver::Solve(int stageIndex, StageContext stage, NewtonParams const&
       return LinearSolverFailed(stageIndex, iteration, result, error);
     if (!std::isfinite(verdict.stepNorm))
       return Fail(ErrorCode::NonFiniteState, stageIndex, iteration, "the Newton step is not finite", error);
-    bool const converged = !keepGoing && !truncated && verdict.Converged();
+    // converged: the step, and every term at its stage target
+    bool const atTargets = problem_.AtTargets();
+    bool const stepConverged = !keepGoing && !truncated && verdict.Converged();
+    bool const converged = stepConverged && atTargets;
     if (converged && !verdict.stepConverged) ++stats.roundOffConvergences;
 
-    // move: a converged step whole, any other along the line search
+    // move: towards the terms' targets, a converged step whole, any other
+    // along the line search
     auto const start = Clock::now();
     problem_.SaveIterate();
-    if (converged) {
+    if (!atTargets) {
+      MoveWithTargets();
+      energy = convergence_.Energy();
+    } else if (stepConverged) {
       lineSearch_.TakeWhole();
     } else {
       real const before = energy;
@@ -207,14 +214,30 @@ bool NewtonSolver::Solve(int stageIndex, StageContext stage, NewtonParams const&
     }
   }
   std::string truncation;
+  if (!problem_.AtTargets())
+    truncation = "; a kinematic collider did not reach its target pose (a body in its way cannot move aside)";
   if (int const stageTruncated = stats.truncatedSolves - truncatedBefore; stageTruncated > 0)
-    truncation = "; " + std::to_string(stageTruncated) + " linear solves stopped at the PCG cap of " +
+    truncation += "; " + std::to_string(stageTruncated) + " linear solves stopped at the PCG cap of " +
                  std::to_string(linear_.GetPcg().maxIterations) + " iterations (PcgParams::maxIterations)";
   return Fail(ErrorCode::NewtonFailed, stageIndex, newton.maxIterations,
               "Newton did not converge within " + std::to_string(newton.maxIterations) + " iterations (gradient norm " +
                   Format(stats.gradientNorm) + ", tolerance " + Format(newton.velocityTolerance) +
                   " on the velocity-scaled step, last step " + Format(lastStepNorm) + ")" + truncation,
               error);
+}
+
+void NewtonSolver::MoveWithTargets() {
+  // the step and the terms' motion towards their targets together, as far
+  // as every term stays valid: no decrease test (the potential itself moves
+  // with the targets); the line search takes over once they are there
+  Span<real const> const delta(delta_.data(), delta_.size());
+  real alpha = problem_.BoundsSteps() ? problem_.LargestSafeStep(delta, 1) : 1;
+  for (int halving = 0; halving < 60; ++halving, alpha *= 0.5) {
+    problem_.ApplyIncrementFromSaved(delta, alpha);
+    if (problem_.AdvanceTargets(alpha)) break;
+    problem_.RestoreIterate();
+  }
+  problem_.AcceptStep({delta, alpha, false});
 }
 
 bool NewtonSolver::ComputeStep(int stageIndex, int iteration, NewtonParams const& newton, SceneStats& stats,

@@ -98,6 +98,9 @@ class NewtonSolver {
   /// where the exact matrix is indefinite (`projected` says which ran), with
   /// a shifted diagonal where a projected one fails by round-off. False with
   /// `error` on a non-finite gradient; the solve's result in `result`.
+  /// Moves the iterate along δ and every term short of its stage target
+  /// towards it by the same fraction, as far as they stay valid.
+  void MoveWithTargets();
   bool ComputeStep(int stageIndex, int iteration, NewtonParams const& newton, SceneStats& stats,
                    LinearSolveResult& result, bool& projected, Error& error);
   bool LinearSolverFailed(int stageIndex, int iteration, LinearSolveResult const& failed, Error& error) const;

@@ -100,6 +100,16 @@ void StageProblem::AcceptStep(AcceptedStep const& step) {
   for (StageTerm* term : terms_) term->AcceptStep(step);
 }
 
+bool StageProblem::AtTargets() const {
+  return std::all_of(terms_.begin(), terms_.end(), [](StageTerm const* t) { return t->AtTarget(); });
+}
+
+bool StageProblem::AdvanceTargets(real fraction) {
+  for (StageTerm* term : terms_)
+    if (!term->AtTarget() && !term->AdvanceTarget(fraction)) return false;
+  return true;
+}
+
 bool StageProblem::HasSecondOrderCorrection() const {
   return std::any_of(terms_.begin(), terms_.end(), [](StageTerm const* t) { return t->HasSecondOrderCorrection(); });
 }

@@ -57,6 +57,12 @@ class StageProblem {
   /// α' <= alpha that none refuses, from the current configuration.
   real LargestSafeStep(Span<real const> delta, real alpha) const;
   void AcceptStep(AcceptedStep const& step);
+  /// Whether every term is at its stage target (StageTerm::AtTarget).
+  bool AtTargets() const;
+  /// Every term not at its target `fraction` of its remaining way there;
+  /// false where one refused (the others may have moved: restore them by
+  /// AdvanceTargets of the smaller fraction after RestoreIterate).
+  bool AdvanceTargets(real fraction);
   bool HasSecondOrderCorrection() const;
   /// Σ over terms of their second-order correction force (into `gradient`).
   void AddCorrectionForce(Span<real const> step, Span<real> gradient);

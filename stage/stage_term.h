@@ -144,6 +144,18 @@ class StageTerm {
   /// valid. When a term refuses, every DoF owner starts the stage from the
   /// stage start instead (an inertial prediction through an obstacle).
   virtual bool AcceptsFirstIterate() const { return true; }
+  /// A term with a target of its own within the stage (a kinematic
+  /// obstacle's pose at the stage end): whether it is there. Newton
+  /// converges only where every term is. While a term is short of its
+  /// target, each Newton iteration moves it along with the DoF owners: its
+  /// assembly adds to the gradient the linear response to the rest of its
+  /// way (the step then carries the bodies it pushes along), its
+  /// LargestSafeStep covers its own motion over the same fraction α of that
+  /// way, and AdvanceTarget(α) moves it there from the current
+  /// configuration — false, and nothing moved, where that would leave it
+  /// invalid (the solver then halves α). The default: always there.
+  virtual bool AtTarget() const { return true; }
+  virtual bool AdvanceTarget(real /*fraction*/) { return true; }
   /// Commits the converged stage.
   virtual void EndStage() = 0;
 

@@ -3,13 +3,14 @@
 // ground, a fast box onto a thin plate. Non-penetration is checked on the
 // bodies' own geometry (corners against the plane, nodes against the plate),
 // not through the barrier's distance.
-#include "test_support.h"
+#include "contact/contact_scenes.h"
+#include "contact/intersection.h"
 #include "test_scenes.h"
 
 #include <cmath>
-#include <map>
 
 #include <superdex/contact/distance.h>
+#include <superdex/solver/newton_solver.h>
 #include <superdex/superdex.h>
 
 using namespace superdex;
@@ -17,15 +18,7 @@ using namespace superdex::test;
 
 namespace {
 
-constexpr real kG = 9.81;
-
-Collider* MakeCollider(Scene& scene, ColliderParams const& params) {
-  Error error;
-  Collider* collider = scene.CreateCollider(params, error);
-  INFO(error.ToString());
-  REQUIRE(collider);
-  return collider;
-}
+constexpr real kG = kGravity;
 
 /// The incline: a static plane through the origin whose normal is y turned
 /// by θ about z, so that down the slope is (cos θ, −sin θ, 0)·(−1)… along −x'.
@@ -157,31 +150,6 @@ TEST_CASE("a fast box does not tunnel through a thin static plate", "[contact][c
   CHECK(scene->GetStats().patternBuilds == 1);
 }
 
-namespace {
-/// A tetrahedral ball: the tets of a grid box whose centroids are within
-/// `radius` of the centre, nodes renumbered.
-DeformableActorParams TetBall(Real3 const& center, real radius, int cells) {
-  TetMesh mesh;
-  Error error;
-  REQUIRE(MakeTetBox(center - Real3::Constant(radius), Real3::Constant(2 * radius), {cells, cells, cells}, mesh,
-                     error));
-  DeformableActorParams p;
-  std::map<int, int> renumber;
-  for (auto const& t : mesh.tetrahedra) {
-    Real3 const centroid =
-        0.25 * (mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]] + mesh.nodes[t[3]]);
-    if ((centroid - center).norm() > radius) continue;
-    std::array<int, 4> tet{};
-    for (int k = 0; k < 4; ++k) {
-      auto [it, inserted] = renumber.try_emplace(t[k], static_cast<int>(p.nodes.size()));
-      if (inserted) p.nodes.push_back(mesh.nodes[t[k]]);
-      tet[k] = it->second;
-    }
-    p.tetrahedra.push_back(tet);
-  }
-  return p;
-}
-}  // namespace
 
 TEST_CASE("a soft ball dropped on the ground bounces back and never passes through it", "[contact][deformable]") {
   SceneParams params;
@@ -471,4 +439,132 @@ TEST_CASE("a rod coil dropped on the ground piles onto itself without crossing",
   }
   CHECK(selfContacts > 0);  // the turns did touch
   CHECK(static_cast<real>(newton) / 120 <= 8);
+}
+
+namespace {
+/// A box resting on the ground (μ = 0.3) and a static Box obstacle, a
+/// paddle 0.4 m tall, 5 cm to its left.
+struct Paddle {
+  std::unique_ptr<Scene> scene;
+  RigidActor* box = nullptr;
+  Collider* paddle = nullptr;
+};
+
+Paddle MakePaddle() {
+  Paddle out;
+  SceneParams params;
+  out.scene = MakeScene(params);
+  MakeGround(*out.scene, 0.3);
+  out.box = MakeRigidBox(*out.scene, Real3(0, 0.1 + 0.5 * params.contact.activationDistance, 0), Quat::Identity(),
+                         Real3::Constant(0.1), 1, 0.3);
+  ColliderParams paddle;
+  paddle.shape = ShapeType::Box;
+  paddle.halfExtents = Real3(0.02, 0.2, 0.3);
+  paddle.position = Real3(-0.17, 0.25, 0);
+  out.paddle = MakeCollider(*out.scene, paddle);
+  return out;
+}
+}  // namespace
+
+TEST_CASE("a kinematic paddle pushes a box across the ground and never passes into it", "[contact][kinematic]") {
+  // the paddle moves at 0.5 m/s along +x by a target per step: it reaches
+  // the box after 0.1 s and pushes it (μ = 0.3 against the ground) at its
+  // own speed; the contact touches only the box's own block: no pattern
+  // build after the first step
+  Paddle p = MakePaddle();
+  InterpenetrationCheck check(p.scene->GetParams().contact.activationDistance);
+  real const dt = 1.0 / 60, speed = 0.5;
+  Error error;
+  int newton = 0;
+  std::int64_t buildsAfterFirst = 0;
+  int const steps = 60;
+  for (int s = 0; s < steps; ++s) {
+    Real3 const target = p.paddle->GetPosition() + Real3(speed * dt, 0, 0);
+    REQUIRE(p.paddle->SetTargetTransform(target, Quat::Identity(), error));
+    bool const stepped = p.scene->Step(dt, error);
+    INFO("step " << s << ": " << error.ToString());
+    REQUIRE(stepped);
+    REQUIRE(p.paddle->GetPosition() == target);  // it got there
+    newton += p.scene->GetStats().newtonIterations;
+    if (s == 0) buildsAfterFirst = p.scene->GetStats().patternBuilds;
+    std::string const found = check.Find(*p.scene);
+    INFO(found);
+    REQUIRE(found.empty());
+  }
+  SceneStats const& stats = p.scene->GetStats();
+  INFO("box at x = " << p.box->GetPosition().x() << ", vx = " << p.box->GetLinearVelocity().x() << ", "
+                     << static_cast<real>(newton) / steps << " Newton iterations per step");
+  // pushed along at the paddle's speed, its left face just ahead of the paddle's right one
+  CHECK(p.box->GetLinearVelocity().x() == Approx(speed).epsilon(0.02));
+  real const paddleFace = p.paddle->GetPosition().x() + 0.02, boxFace = p.box->GetPosition().x() - 0.1;
+  CHECK(boxFace > paddleFace);
+  CHECK(boxFace - paddleFace < p.scene->GetParams().contact.activationDistance);
+  CHECK(stats.patternBuilds == buildsAfterFirst);
+  CHECK(stats.contactPatternBuilds == 0);
+  CHECK(static_cast<real>(newton) / steps <= 8);
+}
+
+TEST_CASE("a rising kinematic ground lifts a resting box", "[contact][kinematic]") {
+  // the ground plane rises at 0.2 m/s: the box rides on it at that speed
+  SceneParams params;
+  auto scene = MakeScene(params);
+  Collider* ground = MakeGround(*scene);
+  RigidActor* box = MakeRigidBox(*scene, Real3(0, 0.1 + 0.5 * params.contact.activationDistance, 0),
+                                 Quat::Identity(), Real3::Constant(0.1), 1);
+  InterpenetrationCheck check(params.contact.activationDistance);
+  real const dt = 1.0 / 60;
+  Error error;
+  for (int s = 0; s < 60; ++s) {
+    REQUIRE(ground->SetTargetTransform(ground->GetPosition() + Real3(0, 0.2 * dt, 0), Quat::Identity(), error));
+    bool const stepped = scene->Step(dt, error);
+    INFO("step " << s << ": " << error.ToString());
+    REQUIRE(stepped);
+    REQUIRE(check.Find(*scene).empty());
+  }
+  CHECK(ground->GetPosition().y() == Approx(0.2).epsilon(1e-12));
+  CHECK(box->GetLinearVelocity().y() == Approx(0.2).epsilon(0.01));
+  CHECK(box->GetPosition().y() - 0.1 - ground->GetPosition().y() > 0);
+}
+
+TEST_CASE("moving a static obstacle: bad poses, a body's collider and a teleport into a body are refused",
+          "[contact][kinematic][errors]") {
+  Paddle p = MakePaddle();
+  Error error;
+  Real3 const start = p.paddle->GetPosition();
+  CHECK_FALSE(p.paddle->SetTargetTransform(Real3(0, std::nan(""), 0), Quat::Identity(), error));
+  CHECK(Mentions(error, "position"));
+  CHECK_FALSE(p.paddle->SetTransform(start, Quat(2, 0, 0, 0), error));
+  CHECK(Mentions(error, "rotation"));
+  Collider* boxShape = p.scene->GetCollider(1);
+  REQUIRE(boxShape);
+  REQUIRE(boxShape->Moves());
+  CHECK_FALSE(boxShape->SetTargetTransform(Real3::Zero(), Quat::Identity(), error));
+  CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+  CHECK(Mentions(error, "carried by an actor"));
+  // a teleport into the box: refused, naming both colliders; nothing moved
+  CHECK_FALSE(p.paddle->SetTransform(Real3(-0.05, 0.25, 0), Quat::Identity(), error));
+  CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+  CHECK(Mentions(error, "SetTransform: collider 2 (Box) intersects collider 1 (Box)"));
+  CHECK(p.paddle->GetPosition() == start);
+  InterpenetrationCheck check(p.scene->GetParams().contact.activationDistance);
+  CHECK(check.Find(*p.scene).empty());
+  // a teleport clear of it is taken
+  REQUIRE(p.paddle->SetTransform(Real3(-0.5, 0.25, 0), Quat::Identity(), error));
+  CHECK(p.paddle->GetPosition() == Real3(-0.5, 0.25, 0));
+}
+
+TEST_CASE("a failed step leaves a kinematic obstacle where it was, its target pending", "[contact][kinematic]") {
+  Paddle p = MakePaddle();
+  Error error;
+  Real3 const start = p.paddle->GetPosition(), target = start + Real3(0.01, 0, 0);
+  REQUIRE(p.paddle->SetTargetTransform(target, Quat::Identity(), error));
+  internal::SetFaultInjectionForTesting(*p.scene, {.failLinearSolveAtIteration = 1});
+  CHECK_FALSE(p.scene->Step(1.0 / 60, error));
+  CHECK(p.paddle->GetPosition() == start);
+  internal::SetFaultInjectionForTesting(*p.scene, {});
+  REQUIRE(p.scene->Step(1.0 / 60, error));
+  CHECK(p.paddle->GetPosition() == target);
+  // and a step without a new target leaves it there
+  REQUIRE(p.scene->Step(1.0 / 60, error));
+  CHECK(p.paddle->GetPosition() == target);
 }

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <initializer_list>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -49,6 +50,44 @@ class ScratchFile {
  private:
   static inline int counter_ = 0;
   std::string path_;
+};
+
+/// The input, read front to back; zeros once it is used up.
+class Input {
+ public:
+  Input(std::uint8_t const* data, std::size_t size) : data_(data), size_(size) {}
+  bool Done() const { return pos_ >= size_; }
+  std::uint8_t Byte() { return pos_ < size_ ? data_[pos_++] : 0; }
+  int Int(int n) { return n > 0 ? Byte() % n : 0; }
+  /// A value from the hostile table, or 8 raw bytes.
+  real Real() {
+    static constexpr real kInf = std::numeric_limits<real>::infinity();
+    static real const kTable[] = {0,     1,      -1,    0.5,    1e-3,   10,     1e6,   1e9,    1e300,
+                                  -1e300, 1e-300, 5e-324, kInf,  -kInf,  std::numeric_limits<real>::quiet_NaN(),
+                                  0.1,   -0.25,  2,     1e200, 3.14159265358979};
+    int const pick = Byte();
+    if (pick < 240) return kTable[pick % std::size(kTable)];
+    std::uint64_t bits = 0;
+    for (int k = 0; k < 8; ++k) bits = bits << 8 | Byte();
+    real value;
+    std::memcpy(&value, &bits, sizeof value);
+    return value;
+  }
+  Real3 Vector() { return Real3(Real(), Real(), Real()); }
+  /// Mostly unit quaternions, sometimes hostile ones.
+  Quat Rotation() {
+    if (Int(4) != 0) {
+      Real3 axis(Int(7) - 3, Int(7) - 3, Int(7) - 3);
+      if (axis.isZero()) return Quat::Identity();
+      return Quat(Eigen::AngleAxis<real>(0.1 * Int(60), axis.normalized()));
+    }
+    return Quat(Real(), Real(), Real(), Real());
+  }
+
+ private:
+  std::uint8_t const* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
 };
 
 /// Every element's indices lie in [0, nodes) and every node is finite.

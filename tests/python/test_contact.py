@@ -72,3 +72,30 @@ def test_bad_colliders_are_refused_naming_the_field():
     # a destroyed actor takes its colliders along
     scene.destroy_actor(box)
     assert scene.get_num_colliders() == 1
+
+
+def test_a_kinematic_ground_lifts_the_box_and_the_geometry_reads_back():
+    scene, ground, box, shape = make_box_on_ground()
+    for _ in range(60):
+        scene.step(1.0 / 60)
+    # the box's corners in the world, its 12 edges' 18 (two triangles a face)
+    corners = np.asarray(shape.get_world_vertices())
+    assert corners.shape == (8, 3)
+    assert corners[:, 1].min() > 0
+    assert len(shape.get_triangles()) == 12
+    assert len(shape.get_edges()) == 18
+    assert shape.get_thickness() == 0
+    # the ground rises 0.1 m over 0.5 s, by a target per step, carrying the box
+    for _ in range(30):
+        ground.set_target_transform(np.asarray(ground.get_position()) + [0, 0.2 / 60, 0], [1, 0, 0, 0])
+        scene.step(1.0 / 60)
+        assert box.get_position()[1] - 0.1 > ground.get_position()[1]
+    assert ground.get_position()[1] == pytest.approx(0.1, rel=1e-12)
+    assert box.get_linear_velocity()[1] == pytest.approx(0.2, rel=0.01)
+    assert scene.get_stats().contact_pattern_builds == 0
+    # a body's collider is moved by its actor; a teleport into the box is refused
+    with raises(mochi.ErrorCode.InvalidArgument, "carried by an actor"):
+        shape.set_target_transform([0, 0, 0], [1, 0, 0, 0])
+    with raises(mochi.ErrorCode.InvalidArgument, "intersects collider"):
+        ground.set_transform([0, 0.5, 0], [1, 0, 0, 0])
+    assert ground.get_position()[1] == pytest.approx(0.1, rel=1e-12)

@@ -54,6 +54,35 @@ void DefineContact(py::module_& m) {
       .def("get_actor", [](ColliderRef const& c) { return c.Get().GetActor(); },
            "the carrying actor's handle (a null handle for a static obstacle)")
       .def("get_friction", [](ColliderRef const& c) { return c.Get().GetFriction(); })
+      .def("get_thickness", [](ColliderRef const& c) { return c.Get().GetThickness(); },
+           "the thickness around every primitive [m] (a Sphere's, Capsule's or rod's radius)")
+      .def("get_position", [](ColliderRef const& c) { return c.Get().GetPosition(); },
+           "the shape's position now: local to its actor, world for an obstacle [m]")
+      .def("get_rotation", [](ColliderRef const& c) { return c.Get().GetRotation(); }, "[w, x, y, z]")
+      .def(
+          "get_world_vertices",
+          [](ColliderRef const& c) {
+            DynamicArray<Real3> vertices;
+            c.Get().GetWorldVertices(vertices);
+            return vertices;
+          },
+          "the shape's vertices in the world now (n x 3; a deformable or rod actor's: its nodes)")
+      .def("get_edges", [](ColliderRef const& c) { return c.Get().GetEdges(); }, "vertex index pairs")
+      .def("get_triangles", [](ColliderRef const& c) { return c.Get().GetTriangles(); }, "vertex index triples")
+      .def(
+          "set_transform",
+          [](ColliderRef const& c, Real3 const& position, Quat const& rotation) {
+            Checked([&](Error& e) { c.Get().SetTransform(position, rotation, e); });
+          },
+          py::arg("position"), py::arg("rotation"),
+          "Moves a static obstacle there at once (refused where it would intersect a body).")
+      .def(
+          "set_target_transform",
+          [](ColliderRef const& c, Real3 const& position, Quat const& rotation) {
+            Checked([&](Error& e) { c.Get().SetTargetTransform(position, rotation, e); });
+          },
+          py::arg("position"), py::arg("rotation"),
+          "Moves a static obstacle kinematically over the next step, pushing the bodies in its way.")
       .def("__repr__", [](ColliderRef const& c) {
         return "Collider(id=" + std::to_string(c.Get().GetId()) + ", shape=" + std::string(ToString(c.Get().GetShape())) +
                ")";

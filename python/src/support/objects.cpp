@@ -16,8 +16,8 @@ Scene& SceneOwner::Get() const {
   return *scene_;
 }
 
-Collider const& ColliderRef::Get() const {
-  Collider const* collider = scene_->Get().GetCollider(id_);
+Collider& ColliderRef::Get() const {
+  Collider* collider = scene_->Get().GetCollider(id_);
   if (!collider)
     Raise(ErrorCode::InvalidHandle,
           "collider " + std::to_string(id_) + " was destroyed (with the actor that carried it)");

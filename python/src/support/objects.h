@@ -44,7 +44,7 @@ class ColliderRef {
   ColliderRef(SceneRef scene, int id) : scene_(std::move(scene)), id_(id) {}
   /// The live collider, or mochi.Error (InvalidHandle: its actor was
   /// destroyed; InvalidState: scene destroyed).
-  Collider const& Get() const;
+  Collider& Get() const;
 
  private:
   SceneRef scene_;
