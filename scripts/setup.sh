@@ -12,7 +12,7 @@ packages=(
   catch2 pybind11-dev
   python3-dev python3-numpy python3-matplotlib python3-pytest
   libopenblas-dev libopenblas0-pthread
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev lld
 )
 
 # run as root, or through sudo when we are not root

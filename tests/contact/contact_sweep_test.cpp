@@ -65,7 +65,7 @@ TEST_CASE("contact sweep: a soft ball dropped from 1 m", "[contact][sweep][long]
   Sweep("ball drop", [](SceneParams p) { return BallDropScene(p); }, IntegratorType::Bdf2);
 }
 
-TEST_CASE("contact sweep: a stack of 5 rigid boxes", "[contact][sweep]") {
+TEST_CASE("contact sweep: a stack of 5 rigid boxes", "[contact][sweep][long]") {
   Sweep("box stack", [](SceneParams p) { return BoxStackScene(p); });
 }
 
