@@ -151,7 +151,7 @@ TEST_CASE("a fast box does not tunnel through a thin static plate", "[contact][c
 }
 
 
-TEST_CASE("a soft ball dropped on the ground bounces back and never passes through it", "[contact][deformable]") {
+TEST_CASE("a soft ball dropped on the ground bounces back and never passes through it", "[contact][deformable][long]") {
   SceneParams params;
   params.integrator = IntegratorType::Bdf2;
   auto scene = MakeScene(params);
@@ -389,7 +389,7 @@ TEST_CASE("a stack of rigid boxes rests on the ground: body-body contact", "[con
   CHECK(stats.activeContacts >= 12);
 }
 
-TEST_CASE("a rod coil dropped on the ground piles onto itself without crossing", "[contact][rod][self]") {
+TEST_CASE("a rod coil dropped on the ground piles onto itself without crossing", "[contact][rod][self][long]") {
   // a two-turn helix (radius 5 cm, pitch 2 cm, rod radius 4 mm): the upper
   // turn lands on the lower one. Checked on the rod's own geometry: every
   // two segments apart by two or more keep their axes at least a diameter

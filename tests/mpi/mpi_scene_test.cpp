@@ -317,3 +317,21 @@ TEST_CASE("a Fortran handle that names no communicator is refused", "[mpi][refus
   REQUIRE_FALSE(Scene::Create(params, error));
   CHECK(error.GetMessage().find("is not a communicator of this process") != std::string::npos);
 }
+
+TEST_CASE("contact on a scene across ranks is refused, naming the ranks", "[mpi][refusal]") {
+  // (docs/contact.md: obstacle contact across ranks is the next stage)
+  Error error;
+  SceneParams params;
+  params.communicator = Communicator::World(error);
+  REQUIRE(params.communicator.GetSize() == 2);
+  auto scene = Scene::Create(params, error);
+  REQUIRE(scene);
+  ColliderParams ground;
+  ground.shape = ShapeType::Plane;
+  Error refused;
+  CHECK_FALSE(scene->CreateCollider(ground, refused));
+  CHECK(refused.GetCode() == ErrorCode::NotSupported);
+  CHECK(refused.GetMessage() ==
+        "CreateCollider: contact on a scene across 2 MPI ranks is not supported yet (docs/contact.md)");
+  CHECK(scene->GetNumColliders() == 0);
+}

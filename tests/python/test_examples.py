@@ -73,3 +73,18 @@ def test_arm_gripper_writes_vtk_and_a_plot(tmp_path):
     # links coupled to other actors: the tree still solves the arm (the
     # couplings through its Schur complement)
     assert "tree solve True" in line
+
+
+def test_contact_scenes_draw_their_output(tmp_path):
+    result = run(os.path.join("..", "contact", "contact_scenes.py"), os.fspath(tmp_path / "out"))
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert (tmp_path / "out" / "contact_scenes.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    lines = result.stdout.splitlines()
+    # the paddle's speed, within 2 %, once it pushes the box
+    assert float(lines[0].split("box speed ")[1].split(" m/s")[0]) == pytest.approx(0.5, rel=0.02)
+    # the ball never reaches the ground, and bounces back up
+    ball = lines[1]
+    assert float(ball.split("lowest node ")[1].split(" m")[0]) > 0
+    assert float(ball.split("bounce peak ")[1].split(" m")[0]) > 0.3
+    # the stack rests: below the 1e-4 m of docs/contact.md's bar
+    assert float(lines[2].split("drift ")[1].split(" m")[0]) < 1e-4
