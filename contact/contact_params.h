@@ -24,7 +24,23 @@ struct ContactParams {
   /// ḡ [m], > 0: the tangential slip over which friction ramps up to μλ;
   /// a contact that slips less sticks to its anchor.
   real frictionRampWidth = 1e-4;
+  /// The cap on distance evaluations of one pair's continuous collision
+  /// detection in one Newton iteration, in [1, 1e8]. Every time CCD returns
+  /// is safe, whatever the cap: a pair that slides fast at a gap far below
+  /// its motion (the case that needs many) gets a shorter step when the cap
+  /// is reached, never one into contact. The cap bounds the time one step
+  /// can spend there (one distance, and a rotation for a rigid side, per
+  /// evaluation, per pair and Newton iteration).
+  int ccdMaxIterations = 10000;
 };
+
+/// [m] The range of contact geometry: every coordinate of a collider's
+/// vertices (world frame, at creation and at each obstacle pose given), and
+/// every radius, half length, half extent and thickness, is at most this in
+/// magnitude. There a double still resolves 1.2e-7 m and squared distances
+/// stay far from overflow (a capsule 1e300 m long would make every distance
+/// to it NaN).
+inline constexpr real kMaxContactCoordinate = 1e9;
 
 namespace internal {
 /// InvalidArgument naming the field when a value is out of range.

@@ -35,7 +35,8 @@ namespace internal {
 bool ValidateContactParams(ContactParams const& params, Error& error) {
   return CheckPositive(params.activationDistance, "contact.activationDistance", error) &&
          CheckPositive(params.stiffness, "contact.stiffness", error) &&
-         CheckPositive(params.frictionRampWidth, "contact.frictionRampWidth", error);
+         CheckPositive(params.frictionRampWidth, "contact.frictionRampWidth", error) &&
+         CheckIntInRange(params.ccdMaxIterations, 1, 100'000'000, "contact.ccdMaxIterations", error);
 }
 
 namespace {
@@ -124,6 +125,31 @@ real TriangleArea(Real3 const& a, Real3 const& b, Real3 const& c) {
   return 0.5 * (b - a).cross(c - a).norm();
 }
 
+/// |value| <= kMaxContactCoordinate (NaN fails).
+bool CheckInRange(real value, std::string_view field, Error& error) {
+  if (std::abs(value) <= kMaxContactCoordinate) return true;
+  error.Set(ErrorCode::InvalidArgument, std::string(field) + ": must lie within the contact geometry's range, |x| <= " +
+                                            Format(kMaxContactCoordinate) + " m, got " + Format(value));
+  return false;
+}
+bool CheckInRange(Real3 const& value, std::string_view field, Error& error) {
+  if (value.allFinite() && value.cwiseAbs().maxCoeff() <= kMaxContactCoordinate) return true;
+  error.Set(ErrorCode::InvalidArgument, std::string(field) + ": must lie within the contact geometry's range, |x| <= " +
+                                            Format(kMaxContactCoordinate) + " m in every component, got " +
+                                            Format(value));
+  return false;
+}
+
+/// Every world vertex of `c` within range (a body far away, or an obstacle
+/// moved there); `what` names the collider.
+bool CheckWorldInRange(Collider const& c, std::string const& what, Error& error) {
+  DynamicArray<Real3> world;
+  c.GetWorldVertices(world);
+  for (std::size_t i = 0; i < world.size(); ++i)
+    if (!CheckInRange(world[i], what + " vertex " + std::to_string(i) + " (world)", error)) return false;
+  return true;
+}
+
 }  // namespace
 
 // ---- colliders ----
@@ -131,7 +157,8 @@ real TriangleArea(Real3 const& a, Real3 const& b, Real3 const& c) {
 Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalActor* nodal, Error& error) {
   if (!CheckFinite(p.position, "position", error) || !CheckUnitQuat(p.rotation, "rotation", error) ||
       !CheckNonNegative(p.friction, "friction", error) || !CheckNonNegative(p.thickness, "thickness", error) ||
-      !CheckNonNegative(p.radius, "radius", error))
+      !CheckNonNegative(p.radius, "radius", error) || !CheckInRange(p.position, "position", error) ||
+      !CheckInRange(p.thickness, "thickness", error) || !CheckInRange(p.radius, "radius", error))
     return nullptr;
   if (p.link != -1) {
     error.Set(ErrorCode::NotSupported, "link: colliders on articulated links are not supported yet, got link " +
@@ -165,7 +192,9 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
   c->system_ = this;
   c->created_ = c->start_ = c->target_ = c->now_ = c->stageStart_ = c->stageTarget_ = {p.position, p.rotation};
   DynamicArray<std::array<int, 3>> triangles;
-  if (!MakeShape(p, *c, triangles, error) || !SetPrimitives(*c, std::move(triangles), error)) return nullptr;
+  if (!MakeShape(p, *c, triangles, error) || !SetPrimitives(*c, std::move(triangles), error) ||
+      !CheckWorldInRange(*c, "CreateCollider: the " + std::string(ToString(p.shape)) + "'s", error))
+    return nullptr;
   c->id_ = nextId_++;
   colliders_.push_back(std::move(c));
   trees_.clear();
@@ -204,7 +233,8 @@ bool ContactSystem::MakeShape(ColliderParams const& p, Collider& c, DynamicArray
       place(Real3::Zero());
       return true;
     case ShapeType::Capsule:
-      if (!CheckPositive(p.radius, "radius", error) || !CheckPositive(p.halfLength, "halfLength", error))
+      if (!CheckPositive(p.radius, "radius", error) || !CheckPositive(p.halfLength, "halfLength", error) ||
+          !CheckInRange(p.halfLength, "halfLength", error))
         return false;
       c.thickness_ = p.radius;
       place(Real3(0, 0, -p.halfLength));
@@ -212,7 +242,8 @@ bool ContactSystem::MakeShape(ColliderParams const& p, Collider& c, DynamicArray
       c.edges_.push_back({0, 1});
       return true;
     case ShapeType::Box: {
-      if (!CheckPositive(p.halfExtents, "halfExtents", error)) return false;
+      if (!CheckPositive(p.halfExtents, "halfExtents", error) || !CheckInRange(p.halfExtents, "halfExtents", error))
+        return false;
       Real3 const e = p.halfExtents;
       for (int i = 0; i < 8; ++i) place(Real3((i & 1) ? e.x() : -e.x(), (i & 2) ? e.y() : -e.y(), (i & 4) ? e.z() : -e.z()));
       // two outward triangles per face
@@ -228,7 +259,7 @@ bool ContactSystem::MakeShape(ColliderParams const& p, Collider& c, DynamicArray
         return false;
       }
       for (std::size_t i = 0; i < p.vertices.size(); ++i) {
-        if (!CheckFinite(p.vertices[i], "vertices[" + std::to_string(i) + "]", error)) return false;
+        if (!CheckInRange(p.vertices[i], "vertices[" + std::to_string(i) + "]", error)) return false;
         place(p.vertices[i]);
       }
       triangles = p.triangles;
@@ -420,7 +451,7 @@ bool CheckObstaclePose(Collider const& c, std::string const& call, Real3 const& 
                                               "is moved this way (move its actor)");
     return false;
   }
-  return CheckFinite(position, "position", error) && CheckUnitQuat(rotation, "rotation", error);
+  return CheckInRange(position, call + ": position", error) && CheckUnitQuat(rotation, "rotation", error);
 }
 }  // namespace
 
@@ -442,7 +473,9 @@ bool Collider::SetTransform(Real3 const& position, Quat const& rotation, Error& 
   Pose const pose{position, rotation.normalized()};
   start_ = target_ = stageStart_ = stageTarget_ = pose;
   Place(pose);
-  if (system_->CheckSeparated(system_->IndexOf(*this), "SetTransform", error)) return true;
+  if (internal::CheckWorldInRange(*this, "SetTransform: collider " + std::to_string(id_) + "'s", error) &&
+      system_->CheckSeparated(system_->IndexOf(*this), "SetTransform", error))
+    return true;
   start_ = saved[0];
   target_ = saved[1];
   stageStart_ = saved[3];
@@ -1228,7 +1261,7 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
   real const target = (1 - contact::kCcdRescale) * gap0;
   real const stop = contact::kCcdStopFraction * contact::kCcdRescale * gap0;
   real t = 0;
-  for (int iteration = 0; iteration < contact::kCcdMaxIterations; ++iteration) {
+  for (int iteration = 0; iteration < params_.ccdMaxIterations; ++iteration) {
     for (int side = 0; side < 2; ++side) {
       SideMotion const& s = motion[side];
       Real33 const turn = s.rigid ? ExpMatrix(t * s.dr) : Real33::Identity();
@@ -1250,18 +1283,19 @@ real ContactSystem::LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x
   auto const& v = pair.v;
   auto dx = [&](int k) -> Real3 { return displacement_[v[k]] * scale; };
   real const thickness = pair.thickness;
+  int const cap = params_.ccdMaxIterations;
   switch (pair.kind) {
     case PairKind::PlaneVertex: {
       Collider const& plane = *colliders_[pair.obstacle];
       return contact::PointPlaneCcd(x[v[0]], dx(0), thickness, plane.planeNormal_, plane.planeOffset_, scale * planeShift_[pair.obstacle], 1);
     }
     case PairKind::PointTriangle:
-      return contact::PointTriangleCcd(x[v[0]], x[v[1]], x[v[2]], x[v[3]], dx(0), dx(1), dx(2), dx(3), thickness, 1);
+      return contact::PointTriangleCcd(x[v[0]], x[v[1]], x[v[2]], x[v[3]], dx(0), dx(1), dx(2), dx(3), thickness, 1, contact::kCcdRescale, cap);
     case PairKind::EdgeEdge:
-      return contact::EdgeEdgeCcd(x[v[0]], x[v[1]], x[v[2]], x[v[3]], dx(0), dx(1), dx(2), dx(3), thickness, 1);
+      return contact::EdgeEdgeCcd(x[v[0]], x[v[1]], x[v[2]], x[v[3]], dx(0), dx(1), dx(2), dx(3), thickness, 1, contact::kCcdRescale, cap);
     case PairKind::PointEdge:
-      return contact::PointEdgeCcd(x[v[0]], x[v[1]], x[v[2]], dx(0), dx(1), dx(2), thickness, 1);
-    case PairKind::PointPoint: return contact::PointPointCcd(x[v[0]], x[v[1]], dx(0), dx(1), thickness, 1);
+      return contact::PointEdgeCcd(x[v[0]], x[v[1]], x[v[2]], dx(0), dx(1), dx(2), thickness, 1, contact::kCcdRescale, cap);
+    case PairKind::PointPoint: return contact::PointPointCcd(x[v[0]], x[v[1]], dx(0), dx(1), thickness, 1, contact::kCcdRescale, cap);
   }
   return 0;
 }

@@ -54,6 +54,12 @@ bool CheckPositive(real value, std::string_view field, Error& error) {
   return (std::isfinite(value) && value > 0) || Fail(field, "finite and > 0", Format(value), error);
 }
 
+bool CheckIntInRange(long long value, long long lowest, long long highest, std::string_view field, Error& error) {
+  return (value >= lowest && value <= highest) ||
+         Fail(field, "in [" + std::to_string(lowest) + ", " + std::to_string(highest) + "]", std::to_string(value),
+              error);
+}
+
 bool CheckPositive(Real3 const& value, std::string_view field, Error& error) {
   return (value.allFinite() && (value.array() > 0).all()) ||
          Fail(field, "finite and > 0 in every component", Format(value), error);

@@ -14,6 +14,8 @@ bool CheckFinite(Real3 const& value, std::string_view field, Error& error);
 bool CheckNonNegative(real value, std::string_view field, Error& error);
 bool CheckPositive(real value, std::string_view field, Error& error);
 bool CheckPositive(Real3 const& value, std::string_view field, Error& error);
+/// An integer in [lowest, highest].
+bool CheckIntInRange(long long value, long long lowest, long long highest, std::string_view field, Error& error);
 /// A unit quaternion: finite and | |q| - 1 | <= 1e-6.
 bool CheckUnitQuat(Quat const& value, std::string_view field, Error& error);
 

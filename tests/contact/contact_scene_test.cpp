@@ -116,8 +116,12 @@ TEST_CASE("a box above its friction angle slides with a = g (sin θ − μ cos �
 
 TEST_CASE("a fast box does not tunnel through a thin static plate", "[contact][ccd]") {
   // a 0.1 m box at 20 m/s onto a 5 mm plate at dt = 1/60: one free step
-  // moves it 0.33 m, 66 plate thicknesses
+  // moves it 0.33 m, 66 plate thicknesses; and so at any CCD cap, down to
+  // one distance evaluation per pair (shorter safe steps, never unsafe ones)
+  int const cap = GENERATE(10000, 1);
+  INFO("ccdMaxIterations " << cap);
   SceneParams params;
+  params.contact.ccdMaxIterations = cap;
   auto scene = MakeScene(params);
   ColliderParams plate;
   plate.shape = ShapeType::Box;
@@ -229,7 +233,29 @@ TEST_CASE("colliders are validated and a bad one changes nothing", "[contact][er
   plane.normal = Real3::Zero();
   CHECK_FALSE(scene->CreateCollider(plane, error));
   CHECK(Mentions(error, "normal"));
+  // geometry beyond the contact range (kMaxContactCoordinate = 1e9 m): a
+  // capsule 1e300 m long made every distance to it NaN
+  ColliderParams capsule;
+  capsule.shape = ShapeType::Capsule;
+  capsule.radius = 0.1;
+  capsule.halfLength = 1e300;
+  CHECK_FALSE(scene->CreateCollider(capsule, error));
+  CHECK(Mentions(error, "halfLength: must lie within the contact geometry's range"));
+  capsule.halfLength = 0.1;
+  capsule.position = Real3(0, 2e9, 0);
+  CHECK_FALSE(scene->CreateCollider(capsule, error));
+  CHECK(Mentions(error, "position: must lie within"));
+  RigidActorParams far;
+  far.position = Real3(0, 0, -5e9);  // a valid body, too far for contact
+  RigidActor* farBody = MakeRigid(*scene, far);
+  ColliderParams farShape;
+  farShape.actor = farBody->GetHandle();
+  farShape.shape = ShapeType::Sphere;
+  farShape.radius = 0.1;
+  CHECK_FALSE(scene->CreateCollider(farShape, error));
+  CHECK(Mentions(error, "CreateCollider: the Sphere's vertex 0 (world): must lie within"));
   CHECK(scene->GetNumColliders() == 0);
+  REQUIRE(scene->DestroyActor(farBody->GetHandle(), error));
   // a box that starts through the ground is refused, naming both colliders
   ColliderParams ground;
   ground.shape = ShapeType::Plane;
@@ -252,6 +278,10 @@ TEST_CASE("colliders are validated and a bad one changes nothing", "[contact][er
   bad.contact.activationDistance = -1;
   CHECK_FALSE(Scene::Create(bad, error));
   CHECK(Mentions(error, "contact.activationDistance"));
+  bad = SceneParams();
+  bad.contact.ccdMaxIterations = 0;
+  CHECK_FALSE(Scene::Create(bad, error));
+  CHECK(Mentions(error, "contact.ccdMaxIterations must be in [1, 100000000], got 0"));
 }
 
 namespace {
@@ -535,6 +565,12 @@ TEST_CASE("moving a static obstacle: bad poses, a body's collider and a teleport
   CHECK(Mentions(error, "position"));
   CHECK_FALSE(p.paddle->SetTransform(start, Quat(2, 0, 0, 0), error));
   CHECK(Mentions(error, "rotation"));
+  // beyond the contact range: the pose itself, or a vertex of the shape there
+  CHECK_FALSE(p.paddle->SetTargetTransform(Real3(1e10, 0, 0), Quat::Identity(), error));
+  CHECK(Mentions(error, "SetTargetTransform: position: must lie within the contact geometry's range"));
+  CHECK_FALSE(p.paddle->SetTransform(Real3(kMaxContactCoordinate, 0, 0), Quat::Identity(), error));
+  CHECK(Mentions(error, "SetTransform: collider 2's vertex 1 (world): must lie within"));
+  CHECK(p.paddle->GetPosition() == start);
   Collider* boxShape = p.scene->GetCollider(1);
   REQUIRE(boxShape);
   REQUIRE(boxShape->Moves());

@@ -9,7 +9,11 @@
 // bit-identical (bodies, obstacle poses, time, counts); and after every
 // successful step no two colliders interpenetrate (the exact test of
 // tests/contact/intersection.h).
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 #include "contact/intersection.h"
@@ -53,12 +57,23 @@ class Driver {
 
   void Run() {
     SceneParams params;
+    // a hostile velocity (a body spun at 1e9 rad/s) spends few CCD
+    // evaluations per pair: the safe step is safe at any cap, and the
+    // sanitizers' instrumentation makes each one ~50 times slower
+    params.contact.ccdMaxIterations = 64;
     if (in_.Int(4) == 0) {
-      params.contact.activationDistance = in_.Int(2) ? in_.Real() : 1e-3;
+      // (at most 5 cm: a d̂ of 2 m made every pair of primitives of the
+      // scene a candidate, 3,271 for three small cubes, 70 s for one step
+      // under the sanitizers; NaN and negative values still reach Create)
+      params.contact.activationDistance = in_.Int(2) ? std::min(in_.Real(), 0.05) : 1e-3;
       params.contact.stiffness = in_.Int(2) ? in_.Real() : 1e6;
       params.contact.frictionRampWidth = in_.Int(2) ? in_.Real() : 1e-4;
+      if (in_.Int(2)) params.contact.ccdMaxIterations = in_.Int(300) - 10;
     }
-    params.newton.maxIterations = 20;  // a hostile scene fails fast
+    // a hostile scene fails fast: one step of two nodal actors with 1,032
+    // active pairs failing Newton at 12 iterations took 22 s under the
+    // sanitizers
+    params.newton.maxIterations = 8;
     Error error;
     scene_ = Scene::Create(params, error);
     if (!scene_) {
@@ -68,7 +83,11 @@ class Driver {
     for (int call = 0; call < 24 && !in_.Done(); ++call) {
       before_ = Digest(*scene_);
       Error callError;
+      auto const start = std::chrono::steady_clock::now();
       bool const ok = Call(callError);
+      if (trace_)
+        std::fprintf(stderr, "call %d %s (%.3f s): %s\n", call, kind_,
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), ok ? "ok" : callError.ToString().c_str());
       if (!ok) {
         Expect(static_cast<bool>(callError), "a call failed without an Error");
         Expect(Digest(*scene_) == before_, "a failed call changed the scene", callError.ToString());
@@ -79,26 +98,32 @@ class Driver {
  private:
   bool Call(Error& error) {
     switch (in_.Int(8)) {
-      case 0: return CreateRigid(error);
+      case 0: return kind_ = "CreateRigid", CreateRigid(error);
       case 1:
-      case 2: return CreateObstacle(error);
-      case 3: return CreateNodal(error);
+      case 2: return kind_ = "CreateObstacle", CreateObstacle(error);
+      case 3: return kind_ = "CreateNodal", CreateNodal(error);
       case 4:
-      case 5: return MoveObstacle(error);
-      case 6: return Kick(error);
-      default: return Step(error);
+      case 5: return kind_ = "MoveObstacle", MoveObstacle(error);
+      case 6: return kind_ = "Kick", Kick(error);
+      default: return kind_ = "Step", Step(error);
     }
   }
 
   real Size() { return in_.Int(4) ? 0.02 * (1 + in_.Int(10)) : in_.Real(); }
-  Real3 Place() { return in_.Int(4) ? Real3(0.1 * (in_.Int(11) - 5), 0.1 * in_.Int(10), 0.1 * (in_.Int(11) - 5)) : in_.Vector(); }
+  Real3 Place() {
+    if (!in_.Int(4)) return in_.Vector();
+    real const x = 0.1 * (in_.Int(11) - 5);
+    real const y = 0.1 * in_.Int(10);
+    return Real3(x, y, 0.1 * (in_.Int(11) - 5));
+  }
+  Real3 Sizes() { return Input::Triple([&] { return Size(); }); }
 
   ColliderParams Shape(bool obstacle) {
     ColliderParams p;
     p.shape = static_cast<ShapeType>(in_.Int(obstacle ? 5 : 4) + (obstacle ? 0 : 1));  // a body has no Plane
     p.radius = Size();
     p.halfLength = Size();
-    p.halfExtents = Real3(Size(), Size(), Size());
+    p.halfExtents = Sizes();
     p.rotation = in_.Rotation();
     if (in_.Int(4) == 0) p.thickness = in_.Real();
     if (in_.Int(4) == 0) p.friction = in_.Real();
@@ -107,7 +132,7 @@ class Driver {
     if (in_.Int(4) == 0) p.normal = in_.Vector();
     if (p.shape == ShapeType::TriangleMesh) {
       int const n = 3 + in_.Int(4);
-      for (int i = 0; i < n; ++i) p.vertices.push_back(in_.Int(3) ? Real3(Size(), Size(), Size()) : in_.Vector());
+      for (int i = 0; i < n; ++i) p.vertices.push_back(in_.Int(3) ? Sizes() : in_.Vector());
       int const m = 1 + in_.Int(3);
       for (int t = 0; t < m; ++t) p.triangles.push_back({in_.Int(n + 1), in_.Int(n + 1), in_.Int(n + 1)});
     }
@@ -124,16 +149,26 @@ class Driver {
     ColliderParams shape = Shape(false);
     shape.actor = rigid->GetHandle();
     shape.position = in_.Int(4) ? Real3::Zero() : in_.Vector();
+    if (trace_)
+      std::fprintf(stderr, "  body %d at (%g, %g, %g) + (%g, %g, %g), radius %g, half length %g, thickness %g\n",
+                   static_cast<int>(shape.shape), body.position.x(), body.position.y(), body.position.z(),
+                   shape.position.x(), shape.position.y(), shape.position.z(), shape.radius, shape.halfLength,
+                   shape.thickness);
     return scene_->CreateCollider(shape, error) != nullptr;
   }
 
   bool CreateObstacle(Error& error) {
     ColliderParams shape = Shape(true);
     shape.position = Place() - Real3(0, 0.5, 0);
+    if (trace_)
+      std::fprintf(stderr, "  obstacle %d at (%g, %g, %g), radius %g, half length %g, thickness %g\n",
+                   static_cast<int>(shape.shape), shape.position.x(), shape.position.y(), shape.position.z(),
+                   shape.radius, shape.halfLength, shape.thickness);
     return scene_->CreateCollider(shape, error) != nullptr;
   }
 
   bool CreateNodal(Error& error) {
+    if (nodalActors_ == kMaxNodalActors) return true;
     Real3 const at = Place();
     real const size = Size();
     Actor* actor = nullptr;
@@ -153,6 +188,10 @@ class Driver {
       actor = scene_->CreateRodActor(rod, error);
     }
     if (!actor) return false;
+    ++nodalActors_;
+    if (trace_)
+      std::fprintf(stderr, "  %s at (%g, %g, %g), size %g, %d nodes\n", ToString(actor->GetType()).data(), at.x(), at.y(),
+                   at.z(), size, static_cast<NodalActor*>(actor)->GetNumNodes());
     before_ = Digest(*scene_);
     ColliderParams surface;
     surface.actor = actor->GetHandle();
@@ -176,8 +215,13 @@ class Driver {
   bool MoveObstacle(Error& error) {
     Collider* c = PickCollider();
     if (!c) return true;
-    Real3 const position = in_.Int(3) ? Real3(c->GetPosition() + 0.05 * Real3(in_.Int(5) - 2, in_.Int(5) - 2, 0))
-                                      : in_.Vector();
+    Real3 position = c->GetPosition();
+    if (in_.Int(3)) {
+      real const dx = 0.05 * (in_.Int(5) - 2);
+      position += Real3(dx, 0.05 * (in_.Int(5) - 2), 0);
+    } else {
+      position = in_.Vector();
+    }
     Quat const rotation = in_.Int(3) ? c->GetRotation() : in_.Rotation();
     return in_.Int(2) ? c->SetTargetTransform(position, rotation, error) : c->SetTransform(position, rotation, error);
   }
@@ -189,13 +233,31 @@ class Driver {
       if (auto* rigid = dynamic_cast<RigidActor*>(&actor); rigid && pick-- >= 0) target = rigid;
     });
     if (!target) return true;
-    return target->SetVelocity(in_.Int(3) ? Real3(0, -5.0 * in_.Int(5), 0) : in_.Vector(), in_.Vector(), error);
+    Real3 const linear = in_.Int(3) ? Real3(0, -5.0 * in_.Int(5), 0) : in_.Vector();
+    return target->SetVelocity(linear, in_.Vector(), error);
   }
 
   bool Step(Error& error) {
     static constexpr real kRates[] = {30, 60, 120, 240};
     real const dt = in_.Int(8) ? 1 / kRates[in_.Int(4)] : in_.Real();
-    if (!scene_->Step(dt, error)) return false;
+    // an input's work is bounded, so that no input outlasts libFuzzer's
+    // timeout under the sanitizers (~1 ms per contact pair and Newton
+    // iteration there): Newton iterations weighted by the last stage's
+    // pairs, over all steps (tiny cubes failing Newton at every step took
+    // 20 s for 24 calls)
+    if (work_ >= kWorkBudget) return true;
+    bool const stepped = scene_->Step(dt, error);
+    work_ += scene_->GetStats().newtonIterations * (1 + scene_->GetStats().stageContributors / 100.0);
+    if (trace_)
+      std::fprintf(stderr, "  %d Newton iterations, %d contact pairs in the last stage\n",
+                   scene_->GetStats().newtonIterations, scene_->GetStats().stageContributors);
+    if (!stepped) return false;
+    if (trace_)
+      scene_->ForEachActor([&](Actor const& actor) {
+        if (auto const* rigid = dynamic_cast<RigidActor const*>(&actor))
+          std::fprintf(stderr, "  rigid at (%g, %g, %g)\n", rigid->GetPosition().x(), rigid->GetPosition().y(),
+                       rigid->GetPosition().z());
+      });
     // never through each other
     test::InterpenetrationCheck check(scene_->GetParams().contact.activationDistance);
     std::string const found = check.Find(*scene_);
@@ -203,7 +265,13 @@ class Driver {
     return true;
   }
 
+  static constexpr double kWorkBudget = 120;  ///< weighted Newton iterations per input
+  static constexpr int kMaxNodalActors = 2;   ///< at most ~800 contact pairs
+  double work_ = 0;
+  int nodalActors_ = 0;
   Input& in_;
+  bool const trace_ = std::getenv("SUPERDEX_FUZZ_TRACE") != nullptr;  ///< each call's outcome on stderr
+  char const* kind_ = "";  ///< the current call's name, for the trace
   std::unique_ptr<Scene> scene_;
   std::vector<std::uint8_t> before_;  ///< the state a failing call must leave
 };

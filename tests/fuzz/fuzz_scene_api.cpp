@@ -178,7 +178,10 @@ class Driver {
           l.joint = static_cast<JointType>(in_.Int(6));  // one past the last: an invalid value
           l.jointToChildPosition = Real3(0.2, 0, 0);
           if (!in_.Int(3)) l.axis = in_.Vector();
-          if (!in_.Int(3)) l.initialPosition.assign(in_.Int(7), in_.Real());
+          if (!in_.Int(3)) {
+            int const count = in_.Int(7);  // read before the value
+            l.initialPosition.assign(count, in_.Real());
+          }
         }
         ok = Track(s, scene.CreateArticulatedActor(p, error));
         break;
@@ -356,7 +359,10 @@ class Driver {
           if (!in_.Int(3)) l.armature = in_.Real();
           if (!in_.Int(3)) l.damping = in_.Real();
           if (!in_.Int(4)) l.mass = in_.Real();
-          if (!in_.Int(4)) l.initialVelocity.assign(in_.Int(7), in_.Real());
+          if (!in_.Int(4)) {
+            int const count = in_.Int(7);  // read before the value
+            l.initialVelocity.assign(count, in_.Real());
+          }
         }
         return Track(s, scenes_[s]->CreateArticulatedActor(p, error));
       }

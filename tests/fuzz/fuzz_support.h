@@ -73,15 +73,27 @@ class Input {
     std::memcpy(&value, &bits, sizeof value);
     return value;
   }
-  Real3 Vector() { return Real3(Real(), Real(), Real()); }
+  /// Three values of next() in this order (the arguments of one call are
+  /// evaluated in an order each compiler picks, so a corpus read that way
+  /// would mean another scene under clang than under gcc).
+  template <class Next>
+  static Real3 Triple(Next&& next) {
+    real const x = next();
+    real const y = next();
+    real const z = next();
+    return Real3(x, y, z);
+  }
+  Real3 Vector() { return Triple([&] { return Real(); }); }
   /// Mostly unit quaternions, sometimes hostile ones.
   Quat Rotation() {
     if (Int(4) != 0) {
-      Real3 axis(Int(7) - 3, Int(7) - 3, Int(7) - 3);
+      Real3 const axis = Triple([&] { return real(Int(7) - 3); });
       if (axis.isZero()) return Quat::Identity();
       return Quat(Eigen::AngleAxis<real>(0.1 * Int(60), axis.normalized()));
     }
-    return Quat(Real(), Real(), Real(), Real());
+    real const w = Real();
+    Real3 const xyz = Vector();
+    return Quat(w, xyz.x(), xyz.y(), xyz.z());
   }
 
  private:

@@ -62,6 +62,11 @@ def test_bad_colliders_are_refused_naming_the_field():
                               triangles=[[0, 1, 2]])
     with raises(mochi.ErrorCode.InvalidArgument, "contact.activationDistance"):
         mochi.Scene.create(contact=mochi.ContactParams(activation_distance=-1))
+    assert mochi.ContactParams().ccd_max_iterations == 10000
+    with raises(mochi.ErrorCode.InvalidArgument, "contact.ccdMaxIterations must be in [1, 100000000], got 0"):
+        mochi.Scene.create(contact=mochi.ContactParams(ccd_max_iterations=0))
+    with raises(mochi.ErrorCode.InvalidArgument, "halfLength: must lie within the contact geometry's range"):
+        scene.create_collider(shape=mochi.ShapeType.Capsule, radius=0.1, half_length=1e300)
     assert scene.get_num_colliders() == 0
     # a collider that starts through another is refused, naming both
     scene.create_collider(shape=mochi.ShapeType.Plane)

@@ -26,7 +26,10 @@ void DefineContact(py::module_& m) {
       .Field("activation_distance", &P::activationDistance, "d̂ [m] > 0, default 1e-3")
       .Field("stiffness", &P::stiffness, "κ [Pa] > 0: the barrier's pressure scale, default 1e6")
       .Field("friction_ramp_width", &P::frictionRampWidth,
-             "ḡ [m] > 0: the slip over which friction ramps up to μλ, default 1e-4");
+             "ḡ [m] > 0: the slip over which friction ramps up to μλ, default 1e-4")
+      .Field("ccd_max_iterations", &P::ccdMaxIterations,
+             "the cap on one pair's CCD distance evaluations per Newton iteration, in [1, 1e8], "
+             "default 10000 (a lower cap: shorter safe steps, never unsafe ones)");
 
   using C = ColliderParams;
   ParamsClass<C>(m, "ColliderParams",

@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Writes the named seeds of tests/fuzz/corpus/contact/ from the byte layout
+that fuzz_contact.cpp reads (each value one byte, read in the order written
+here; Input::Int(n) is byte % n). The scenes: a box dropped on the ground and
+left to rest, a kinematic paddle pushing a box, a rod and a tet cube dropped
+on the ground. Run it after changing what fuzz_contact.cpp reads:
+
+    /usr/bin/python3 tests/fuzz/make_contact_seeds.py
+"""
+from pathlib import Path
+
+CORPUS = Path(__file__).resolve().parent / "corpus" / "contact"
+
+# Driver::Call's choice (in_.Int(8))
+CREATE_RIGID, CREATE_OBSTACLE, CREATE_NODAL, MOVE_OBSTACLE, KICK, STEP = 0, 1, 3, 4, 6, 7
+PLANE, SPHERE, BOX, CAPSULE = 0, 1, 2, 3
+
+
+def size(k):
+    """Size(): 0.02 (1 + k), k in [0, 10)."""
+    return [1, k]
+
+
+def place(x, y, z):
+    """Place(): (0.1 (x − 5), 0.1 y, 0.1 (z − 5))."""
+    return [1, x, y, z]
+
+
+def shape(kind, obstacle, half=4, radius=4):
+    """Shape(): the shape (an obstacle's from Plane on, a body's from Sphere on),
+    radius, half length, half extents (all Size()), the identity rotation, no
+    hostile thickness, friction, group, mask or normal."""
+    out = [kind if obstacle else kind - 1]
+    out += size(radius) + size(half) + size(half) * 3
+    out += [1, 3, 3, 3]  # Rotation(): an axis of zeros is the identity
+    out += [1] * 5
+    return out
+
+
+def step(rate=1):
+    """Step(): dt = 1 / (30, 60, 120, 240)[rate]."""
+    return [STEP, 1, rate]
+
+
+def ground():
+    return [CREATE_OBSTACLE] + shape(PLANE, True) + place(5, 5, 5)  # y = 0.5 − 0.5
+
+
+def rigid_box(x, y, z, half=4):
+    return [CREATE_RIGID] + place(x, y, z) + [1] + shape(BOX, False, half=half) + [1]
+
+
+def seeds():
+    params = [1]  # default ContactParams
+    yield "ground_box_steps", params + ground() + rigid_box(5, 2, 5) + step() * 20
+    # a paddle (a static box) beside a resting box, moved 5 cm toward it
+    # over each of the next steps
+    paddle = [CREATE_OBSTACLE] + shape(BOX, True, half=2) + place(2, 7, 5)
+    push = [MOVE_OBSTACLE, 2, 1, 3, 2, 1, 1]  # collider 2, +5 cm in x, kept rotation, target
+    yield "kinematic_push", params + ground() + rigid_box(5, 2, 5) + paddle + (push + step()) * 9
+    # a 7-node rod and a tet cube, each with its Surface, onto the ground
+    rod = [CREATE_NODAL] + place(3, 4, 5) + size(2) + [0, 5] + [0] * 7 + [1, 1, 0]
+    cube = [CREATE_NODAL] + place(6, 2, 5) + size(4) + [1, 1, 1, 1]
+    yield "rod_and_cube", params + ground() + rod + cube + step() * 20
+
+
+def main():
+    for name, data in seeds():
+        assert all(0 <= b < 256 for b in data), name
+        (CORPUS / f"{name}.bin").write_bytes(bytes(data))
+        print(f"{name}.bin: {len(data)} bytes")
+
+
+if __name__ == "__main__":
+    main()
