@@ -10,7 +10,9 @@ bash scripts/setup.sh
 source scripts/env.sh
 source scripts/build_options.sh
 
-superdex_configure build -DCMAKE_BUILD_TYPE=Release
+# (the library in unity batches, as test.sh builds it: the two commands share
+# build/ without recompiling it)
+superdex_configure build -DCMAKE_BUILD_TYPE=Release -DSUPERDEX_UNITY_BUILD=ON
 # the main job needs the library and the harness only
 cmake --build build -j"${SUPERDEX_BUILD_JOBS}" --target superdex_perf
 

@@ -2,7 +2,7 @@
 # The test job (docs/testing.md): install dependencies; build SuperDex
 # (Release) with its tests into build/ and run them with ctest; then the
 # sanitizer job (scripts/test_sanitizers.sh: the C++ tests and the fuzz
-# targets' corpora under ASan + UBSan in build-asan/) and 30 s of each fuzz
+# targets' corpora under ASan + UBSan in build-asan/) and 20 s of each fuzz
 # target (scripts/fuzz.sh). Prints the time of each part and exits non-zero
 # when any part failed.
 #
@@ -12,7 +12,7 @@
 #
 # Environment:
 #   SUPERDEX_SKIP_SANITIZERS=1   skip the sanitizer build, its tests and the fuzzing
-#   SUPERDEX_FUZZ_SECONDS=N      seconds of fuzzing per target (default 30; 0 skips it)
+#   SUPERDEX_FUZZ_SECONDS=N      seconds of fuzzing per target (default 20; 0 skips it)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -41,7 +41,7 @@ source scripts/env.sh
 source scripts/build_options.sh
 
 release_build() {
-  superdex_configure build -DCMAKE_BUILD_TYPE=Release -DSUPERDEX_BUILD_TESTS=ON &&
+  superdex_configure build -DCMAKE_BUILD_TYPE=Release -DSUPERDEX_BUILD_TESTS=ON -DSUPERDEX_UNITY_BUILD=ON &&
     cmake --build build -j"${SUPERDEX_BUILD_JOBS}"
 }
 part "Release build" release_build
@@ -54,8 +54,8 @@ if ((status == 0)); then
 fi
 if ((!fast)) && [[ -z ${SUPERDEX_SKIP_SANITIZERS:-} ]]; then
   part "sanitizer job" bash scripts/test_sanitizers.sh
-  if ((${SUPERDEX_FUZZ_SECONDS:-30} > 0)); then
-    part fuzzing bash scripts/fuzz.sh "${SUPERDEX_FUZZ_SECONDS:-30}"
+  if ((${SUPERDEX_FUZZ_SECONDS:-20} > 0)); then
+    part fuzzing bash scripts/fuzz.sh "${SUPERDEX_FUZZ_SECONDS:-20}"
   fi
 fi
 
