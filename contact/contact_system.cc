@@ -192,8 +192,10 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
   c->system_ = this;
   c->created_ = c->start_ = c->target_ = c->now_ = c->stageStart_ = c->stageTarget_ = {p.position, p.rotation};
   DynamicArray<std::array<int, 3>> triangles;
+  // (the thickness checked once more: a rod's Surface takes the rod's radius)
   if (!MakeShape(p, *c, triangles, error) || !SetPrimitives(*c, std::move(triangles), error) ||
-      !CheckWorldInRange(*c, "CreateCollider: the " + std::string(ToString(p.shape)) + "'s", error))
+      !CheckWorldInRange(*c, "CreateCollider: the " + std::string(ToString(p.shape)) + "'s", error) ||
+      !CheckInRange(c->thickness_, "thickness", error))
     return nullptr;
   c->id_ = nextId_++;
   colliders_.push_back(std::move(c));

@@ -256,6 +256,19 @@ TEST_CASE("colliders are validated and a bad one changes nothing", "[contact][er
   CHECK(Mentions(error, "CreateCollider: the Sphere's vertex 0 (world): must lie within"));
   CHECK(scene->GetNumColliders() == 0);
   REQUIRE(scene->DestroyActor(farBody->GetHandle(), error));
+  // a rod's Surface takes the rod's radius as its thickness: in range too
+  RodActorParams thick;
+  thick.nodes = {Real3(0, 5, 0), Real3(1, 5, 0)};
+  thick.radius = 2e9;
+  RodActor* rod = scene->CreateRodActor(thick, error);
+  INFO(error.ToString());
+  REQUIRE(rod);
+  ColliderParams surface;
+  surface.actor = rod->GetHandle();
+  CHECK_FALSE(scene->CreateCollider(surface, error));
+  CHECK(Mentions(error, "thickness: must lie within the contact geometry's range"));
+  CHECK(scene->GetNumColliders() == 0);
+  REQUIRE(scene->DestroyActor(rod->GetHandle(), error));
   // a box that starts through the ground is refused, naming both colliders
   ColliderParams ground;
   ground.shape = ShapeType::Plane;
