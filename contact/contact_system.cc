@@ -125,19 +125,10 @@ real TriangleArea(Real3 const& a, Real3 const& b, Real3 const& c) {
   return 0.5 * (b - a).cross(c - a).norm();
 }
 
-/// |value| <= kMaxContactCoordinate (NaN fails).
-bool CheckInRange(real value, std::string_view field, Error& error) {
-  if (std::abs(value) <= kMaxContactCoordinate) return true;
-  error.Set(ErrorCode::InvalidArgument, std::string(field) + ": must lie within the contact geometry's range, |x| <= " +
-                                            Format(kMaxContactCoordinate) + " m, got " + Format(value));
-  return false;
-}
-bool CheckInRange(Real3 const& value, std::string_view field, Error& error) {
-  if (value.allFinite() && value.cwiseAbs().maxCoeff() <= kMaxContactCoordinate) return true;
-  error.Set(ErrorCode::InvalidArgument, std::string(field) + ": must lie within the contact geometry's range, |x| <= " +
-                                            Format(kMaxContactCoordinate) + " m in every component, got " +
-                                            Format(value));
-  return false;
+/// Within the contact geometry's range, kMaxContactCoordinate [m].
+template <class Value>
+bool CheckInRange(Value const& value, std::string_view field, Error& error) {
+  return CheckMagnitude(value, kMaxContactCoordinate, field, error);
 }
 
 /// Every world vertex of `c` within range (a body far away, or an obstacle
@@ -157,8 +148,7 @@ bool CheckWorldInRange(Collider const& c, std::string const& what, Error& error)
 Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalActor* nodal, Error& error) {
   if (!CheckFinite(p.position, "position", error) || !CheckUnitQuat(p.rotation, "rotation", error) ||
       !CheckNonNegative(p.friction, "friction", error) || !CheckNonNegative(p.thickness, "thickness", error) ||
-      !CheckNonNegative(p.radius, "radius", error) || !CheckInRange(p.position, "position", error) ||
-      !CheckInRange(p.thickness, "thickness", error) || !CheckInRange(p.radius, "radius", error))
+      !CheckNonNegative(p.radius, "radius", error) || !CheckInRange(p.position, "position", error))
     return nullptr;
   if (p.link != -1) {
     error.Set(ErrorCode::NotSupported, "link: colliders on articulated links are not supported yet, got link " +
@@ -192,7 +182,8 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
   c->system_ = this;
   c->created_ = c->start_ = c->target_ = c->now_ = c->stageStart_ = c->stageTarget_ = {p.position, p.rotation};
   DynamicArray<std::array<int, 3>> triangles;
-  // (the thickness checked once more: a rod's Surface takes the rod's radius)
+  // the shape's own range: its world vertices and its thickness (a sphere's
+  // or capsule's radius, a rod Surface's the rod's radius)
   if (!MakeShape(p, *c, triangles, error) || !SetPrimitives(*c, std::move(triangles), error) ||
       !CheckWorldInRange(*c, "CreateCollider: the " + std::string(ToString(p.shape)) + "'s", error) ||
       !CheckInRange(c->thickness_, "thickness", error))

@@ -54,6 +54,15 @@ bool CheckPositive(real value, std::string_view field, Error& error) {
   return (std::isfinite(value) && value > 0) || Fail(field, "finite and > 0", Format(value), error);
 }
 
+bool CheckMagnitude(real value, real bound, std::string_view field, Error& error) {
+  return std::abs(value) <= bound || Fail(field, "finite and within ±" + Format(bound), Format(value), error);
+}
+
+bool CheckMagnitude(Real3 const& value, real bound, std::string_view field, Error& error) {
+  return (value.allFinite() && value.cwiseAbs().maxCoeff() <= bound) ||
+         Fail(field, "finite and within ±" + Format(bound) + " in every component", Format(value), error);
+}
+
 bool CheckIntInRange(long long value, long long lowest, long long highest, std::string_view field, Error& error) {
   return (value >= lowest && value <= highest) ||
          Fail(field, "in [" + std::to_string(lowest) + ", " + std::to_string(highest) + "]", std::to_string(value),
