@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Cholesky>
 
 #include <superdex/assembly/hessian_assembler.h>
 #include <superdex/core/so3.h>
+#include <superdex/core/symmetric_eigen.h>
 #include <superdex/core/validate.h>
 #include <superdex/linsolve/linear_solver.h>
 
@@ -1112,11 +1113,10 @@ bool ArticulatedActor::Factorize(internal::HessianAssembler& assembler, int firs
       own_[i] = linkMetric_[i];
       int const m = links_[i].numDofs;
       if (m == 0) continue;
-      using Block = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;  // no allocation
-      Eigen::SelfAdjointEigenSolver<Block> extra(Block(jointBlocks_[i].topLeftCorner(m, m)));
-      jointBlocks_[i].topLeftCorner(m, m) = extra.eigenvectors() *
-                                            extra.eigenvalues().cwiseMax(0).asDiagonal() *
-                                            extra.eigenvectors().transpose();
+      auto const extra = ComputeSymmetricEigen(MatrixUpTo6(jointBlocks_[i].topLeftCorner(m, m)));
+      jointBlocks_[i].topLeftCorner(m, m) = extra.vectors *
+                                            extra.values.cwiseMax(0).asDiagonal() *
+                                            extra.vectors.transpose();
     }
     for (CoupledLink& coupled : coupledLinks_) coupled.ownWithout = own_[coupled.link];
     JoinCouplingStiffness(true);

@@ -4,9 +4,10 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Cholesky>
 
 #include <superdex/core/so3.h>
+#include <superdex/core/symmetric_eigen.h>
 
 namespace superdex::internal {
 
@@ -198,8 +199,8 @@ void ArticulatedTreeSolver::ModifyPivot(System const& system, int i, Square<M>& 
   // a tenth of a falling chain's step, every pivot modified)
   int const m = system.numDofs[i], parent = system.parent[i];
   int const numJoints = static_cast<int>(system.parent.size());
-  Eigen::SelfAdjointEigenSolver<Square<M>> eigen(pivot);
-  Vec<M> values = eigen.eigenvalues();
+  auto const eigen = ComputeSymmetricEigen(pivot);
+  Vec<M> values = eigen.values;
   int modified = 0;
   for (int a = 0; a < m; ++a) modified += values[a] < floor_;
   Eigen::LLT<Matrix6> metric;
@@ -210,7 +211,7 @@ void ArticulatedTreeSolver::ModifyPivot(System const& system, int i, Square<M>& 
     values[a] = std::max(std::abs(values[a]), floor_);
     if (bounded && metric.info() == Eigen::Success) {
       // uᵀ W⁻¹ u = ‖L⁻¹ u‖², W = L Lᵀ: one forward substitution
-      Vector6 y = Cols<M>(right_[i]) * eigen.eigenvectors().col(a);
+      Vector6 y = Cols<M>(right_[i]) * eigen.vectors.col(a);
       auto const& lower = metric.matrixLLT();
       for (int r = 0; r < 6; ++r) {
         for (int c = 0; c < r; ++c) y[r] -= lower(r, c) * y[c];
@@ -219,7 +220,7 @@ void ArticulatedTreeSolver::ModifyPivot(System const& system, int i, Square<M>& 
       values[a] = std::max(values[a], 2 * modified * y.squaredNorm());
     }
   }
-  pivot.noalias() = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
+  pivot.noalias() = eigen.vectors * values.asDiagonal() * eigen.vectors.transpose();
 }
 
 void ArticulatedTreeSolver::Solve(System const& system, Span<real const> b, Span<real> x) {

@@ -3,10 +3,9 @@
 #include <cmath>
 #include <numbers>
 
-#include <Eigen/Eigenvalues>
-
 #include <superdex/core/jet.h>
 #include <superdex/core/so3.h>
+#include <superdex/core/symmetric_eigen.h>
 
 namespace superdex::internal {
 
@@ -310,9 +309,9 @@ void MapToDofs(In const& x, Out&& y) {
 
 /// The 8×8 Hessian clamped to its non-negative eigenvalues.
 Matrix8 ProjectToPsd(Matrix8 const& h) {
-  Eigen::SelfAdjointEigenSolver<Matrix8> eigen(h);
-  return eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0).asDiagonal() *
-         eigen.eigenvectors().transpose();
+  auto const eigen = ComputeSymmetricEigen(h);
+  return eigen.vectors * eigen.values.cwiseMax(0).asDiagonal() *
+         eigen.vectors.transpose();
 }
 
 }  // namespace
@@ -518,8 +517,8 @@ void RodBendTwistGradientHessianJet(RodStiffness const& k, RodStencilRest const&
                        J::Variable(thetaB, 7), refTwistStart));
   Eigen::Matrix<real, 8, 8> h8 = energy.hessian;
   if (project) {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<real, 8, 8>> eigen(h8);
-    h8 = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0).asDiagonal() * eigen.eigenvectors().transpose();
+    auto const eigen = ComputeSymmetricEigen(h8);
+    h8 = eigen.vectors * eigen.values.cwiseMax(0).asDiagonal() * eigen.vectors.transpose();
   }
   // (eₐ, e_b, θₐ, θ_b) = M [xᵢ₋₁, θᵢ₋₁, xᵢ, θᵢ, xᵢ₊₁]
   Eigen::Matrix<real, 8, 11> map = Eigen::Matrix<real, 8, 11>::Zero();

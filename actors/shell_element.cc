@@ -1,9 +1,9 @@
 #include <superdex/actors/shell_element.h>
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
+
+#include <superdex/core/symmetric_eigen.h>
 
 namespace superdex::internal {
 
@@ -99,10 +99,10 @@ Eigen::Matrix<real, 6, 6> MembraneStressDerivative(real mu, real lambdaPlaneStre
 Eigen::Matrix<real, 6, 6> MembraneProjectedStressDerivative(real mu, real lambdaPlaneStress,
                                                             Eigen::Matrix<real, 3, 2> const& f) {
   Matrix6 const a = MembraneStressDerivative(mu, lambdaPlaneStress, f);
-  Eigen::SelfAdjointEigenSolver<Matrix6> eigen(a);
-  auto const& values = eigen.eigenvalues();
+  auto const eigen = ComputeSymmetricEigen(a);
+  auto const& values = eigen.values;
   if (values.minCoeff() >= 0) return a;
-  Matrix6 const& q = eigen.eigenvectors();
+  Matrix6 const& q = eigen.vectors;
   Matrix6 const projected = q * values.cwiseMax(0).asDiagonal() * q.transpose();
   return 0.5 * (projected + projected.transpose());
 }

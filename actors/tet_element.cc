@@ -1,18 +1,6 @@
-// GCC 12 reports a false -Wmaybe-uninitialized inside Eigen 3.4's
-// self-adjoint matrix-vector product (instantiated by the fixed-size 9×9
-// SelfAdjointEigenSolver: the stack buffer it flags is unused when the
-// destination has direct access). Silenced for Eigen's headers only.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
 #include <superdex/actors/tet_element.h>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
+#include <superdex/core/symmetric_eigen.h>
 
 #include <algorithm>
 #include <cmath>
@@ -323,11 +311,11 @@ Matrix9 TetStressDerivative(TetMaterialModel model, LameParameters const& lame, 
 }
 
 Matrix9 ProjectToPsdEigenSolver(Matrix9 const& a) {
-  Eigen::SelfAdjointEigenSolver<Matrix9> eigen(a);
-  Vector9 const alpha = eigen.eigenvalues();
+  auto const eigen = ComputeSymmetricEigen(a);
+  Vector9 const alpha = eigen.values;
   if (alpha.minCoeff() >= 0) return a;
-  Matrix9 const scaled = eigen.eigenvectors() * alpha.cwiseMax(real(0)).asDiagonal();
-  return scaled * eigen.eigenvectors().transpose();
+  Matrix9 const scaled = eigen.vectors * alpha.cwiseMax(real(0)).asDiagonal();
+  return scaled * eigen.vectors.transpose();
 }
 
 Matrix9 TetProjectedStressDerivative(TetMaterialModel model, LameParameters const& lame,

@@ -1,16 +1,6 @@
-// GCC 12 reports a false -Wmaybe-uninitialized inside Eigen 3.4's
-// self-adjoint matrix-vector product (instantiated by the fixed-size
-// SelfAdjointEigenSolver). Silenced for Eigen's headers only.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
 #include <superdex/contact/barrier.h>
 
-#include <Eigen/Eigenvalues>
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
+#include <superdex/core/symmetric_eigen.h>
 
 #include <cmath>
 #include <limits>
@@ -73,11 +63,11 @@ ValueGradientHessian<n> BarrierEnergy(ValueGradientHessian<n> const& distance2,
 
 template <int n>
 LocalMatrix<n> ProjectToPsd(LocalMatrix<n> const& a) {
-  Eigen::SelfAdjointEigenSolver<LocalMatrix<n>> eigen(a);
-  LocalVector<n> const lambda = eigen.eigenvalues();
+  auto const eigen = ComputeSymmetricEigen(a);
+  LocalVector<n> const lambda = eigen.values;
   if (lambda.minCoeff() >= 0) return a;
-  LocalMatrix<n> const scaled = eigen.eigenvectors() * lambda.cwiseMax(real(0)).asDiagonal();
-  return scaled * eigen.eigenvectors().transpose();
+  LocalMatrix<n> const scaled = eigen.vectors * lambda.cwiseMax(real(0)).asDiagonal();
+  return scaled * eigen.vectors.transpose();
 }
 
 // --------------------------------------------------------- friction ramp

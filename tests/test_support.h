@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include <superdex/core/symmetric_eigen.h>  // SymmetricEigenvalues: the eigensolver compiled once
 #include <superdex/superdex.h>
 
 namespace superdex::test {

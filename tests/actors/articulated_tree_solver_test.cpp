@@ -6,7 +6,6 @@
 
 #include <random>
 
-#include <Eigen/Eigenvalues>
 
 #include <superdex/actors/articulated_tree_solver.h>
 
@@ -106,7 +105,7 @@ RandomTree MakeTree(int numJoints, int shape, unsigned seed, real smallest = 1) 
   }
   // shift the joint blocks by what makes the smallest eigenvalue `smallest`
   if (t.n > 0) {  // (joints without DoFs only: nothing to solve)
-    real const lowest = Eigen::SelfAdjointEigenSolver<MatrixX>(t.Dense()).eigenvalues().minCoeff();
+    real const lowest = SymmetricEigenvalues<MatrixX>(t.Dense()).minCoeff();
     for (auto& block : t.jointExtras) block += (smallest - lowest) * Matrix6::Identity();
   }
   t.MakeLocal();
@@ -192,7 +191,7 @@ TEST_CASE("the modified tree factorization is positive definite, and H itself wh
   }
   CHECK((inverse - inverse.transpose()).norm() <= 1e-10 * inverse.norm());
   MatrixX const symmetric = 0.5 * (inverse + inverse.transpose());
-  CHECK(Eigen::SelfAdjointEigenSolver<MatrixX>(symmetric).eigenvalues().minCoeff() > 0);
+  CHECK(SymmetricEigenvalues(symmetric).minCoeff() > 0);
 }
 
 TEST_CASE("a modified factorization continued from a failed exact one is the modified factorization",

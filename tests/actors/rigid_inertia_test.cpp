@@ -8,7 +8,6 @@
 // Gauss–Newton block differs from H by the curvature term and is PSD.
 #include "test_support.h"
 
-#include <Eigen/Eigenvalues>
 
 #include <superdex/actors/rigid_inertia.h>
 #include <superdex/core/so3_jet.h>
@@ -74,7 +73,7 @@ TEST_CASE("rigid inertia term: gradient and exact rotation Hessian match central
   // stage rotation (it is 1e-7 of H at 1e-5 rad), and is PSD
   Real33 const gaussNewton = stage.RotationHessianGaussNewton(rotation);
   if (stageAngle >= 0.3) REQUIRE((gaussNewton - hessian).norm() > 1e-3 * hScale);
-  REQUIRE(Eigen::SelfAdjointEigenSolver<Real33>(gaussNewton).eigenvalues().minCoeff() >= 0);
+  REQUIRE(SymmetricEigenvalues(gaussNewton).minCoeff() >= 0);
 }
 
 TEST_CASE("rigid inertia term: the closed-form rotation Hessian equals second-order jets of Log(Exp(u) M0)",

@@ -25,7 +25,6 @@
 // entry itself where it is large, to the largest entry where it is small.
 #include <superdex/actors/tet_element.h>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <atomic>
 #include <cerrno>
@@ -233,9 +232,9 @@ Matrix12 FdHessian(Model model, LameParameters const& lame, TetRestData const& r
 
 template <int N>
 Eigen::Matrix<real, N, 1> Eigenvalues(Eigen::Matrix<real, N, N> const& m) {
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<real, N, N>> eigen(m);
-  REQUIRE(eigen.info() == Eigen::Success);
-  return eigen.eigenvalues();
+  auto const eigen = ComputeSymmetricEigen(m);
+  REQUIRE(eigen.converged);
+  return eigen.values;
 }
 
 /// blockdiag(R, R, R, R)

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
 
+#include <superdex/core/symmetric_eigen.h>
 #include <superdex/linsolve/incomplete_cholesky.h>
 
 #include "linsolve/test_systems.h"
@@ -189,8 +189,7 @@ SparseSymmetricMatrix Kershaw(std::initializer_list<real> scales) {
 bool IsPositiveDefinite(IncompleteCholesky& factor, SparseSymmetricMatrix const& a) {
   VectorX const root = Dense(a).diagonal().cwiseSqrt();
   MatrixX const scaled = root.asDiagonal() * DenseInverse(factor) * root.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<MatrixX> eigen(0.5 * (scaled + scaled.transpose()));
-  return eigen.eigenvalues().minCoeff() > 0;
+  return SymmetricEigenvalues<MatrixX>(0.5 * (scaled + scaled.transpose())).minCoeff() > 0;
 }
 
 TEST_CASE("IC shifts the diagonal where a pivot breaks down, relative to it", "[linsolve][icc]") {
