@@ -411,6 +411,50 @@ void ArticulatedActor::ComputeLinkFrame(internal::LinkPath& path) const {
   }
 }
 
+void ArticulatedActor::ComputeLinkFrameAlong(internal::LinkPath const& path, real const* d, real alpha,
+                                             Real3& position, Quat& rotation) const {
+  position = Real3::Zero();
+  rotation = Quat::Identity();
+  for (int i : path.links) {
+    LinkPose pose;
+    PoseLink(i, Advance(i, state_.joints[i], d + links_[i].dofStart, alpha), position, rotation, pose);
+    position = pose.linkPosition;
+    rotation = pose.linkRotation;
+  }
+}
+
+real ArticulatedActor::LinkSpeedBound(internal::LinkPath const& path, real const* d, real alphaMax, real arm) const {
+  // from the link towards the root: `reach` bounds the distance from the
+  // current link's frame origin to the point; a joint's rotation turns the
+  // point about its origin, jointToChildPosition farther, and its own
+  // translation (prismatic, free) then lies between that origin and the parent's
+  real speed = 0, reach = arm;
+  for (auto it = path.links.rbegin(); it != path.links.rend(); ++it) {
+    Link const& l = links_[*it];
+    JointState const& q = state_.joints[*it];
+    real const* x = d + l.dofStart;
+    real const fromJoint = reach + l.jointToChildPosition.norm();
+    real translation = 0;  // the farthest the joint's translation reaches
+    switch (l.joint) {
+      case JointType::Revolute: speed += std::abs(x[0]) * l.axis.norm() * fromJoint; break;
+      case JointType::Prismatic:
+        speed += std::abs(x[0]) * l.axis.norm();
+        translation = (std::abs(q.scalar) + alphaMax * std::abs(x[0])) * l.axis.norm();
+        break;
+      case JointType::Spherical: speed += Real3(x[0], x[1], x[2]).norm() * fromJoint; break;
+      case JointType::Free: {
+        Real3 const dp(x[0], x[1], x[2]);
+        speed += dp.norm() + Real3(x[3], x[4], x[5]).norm() * fromJoint;
+        translation = q.translation.norm() + alphaMax * dp.norm();
+        break;
+      }
+      case JointType::Fixed: break;
+    }
+    reach = fromJoint + translation + l.parentToJointPosition.norm();
+  }
+  return speed;
+}
+
 void ArticulatedActor::JointDifference(int link, JointState const& q, JointState const& q0, real* out) const {
   switch (links_[link].joint) {
     case JointType::Revolute:
@@ -1241,24 +1285,23 @@ void ArticulatedActor::ApplyIncrementFromSaved(Span<real const> delta, real alph
 }
 
 void ArticulatedActor::ApplyLocalIncrement(real const* d, real alpha) {
-  for (int i = 0; i < GetNumLinks(); ++i) {
-    Link const& l = links_[i];
-    JointState const& from = saved_[i];
-    JointState& to = state_.joints[i];
-    real const* x = d + l.dofStart;
-    switch (l.joint) {
-      case JointType::Revolute:
-      case JointType::Prismatic: to.scalar = from.scalar + alpha * x[0]; break;
-      case JointType::Spherical:
-        to.rotation = (from.rotation * Exp(alpha * Real3(x[0], x[1], x[2]))).normalized();
-        break;
-      case JointType::Free:
-        to.translation = from.translation + alpha * Real3(x[0], x[1], x[2]);
-        to.rotation = (from.rotation * Exp(alpha * Real3(x[3], x[4], x[5]))).normalized();
-        break;
-      case JointType::Fixed: break;
-    }
+  for (int i = 0; i < GetNumLinks(); ++i) state_.joints[i] = Advance(i, saved_[i], d + links_[i].dofStart, alpha);
+}
+
+ArticulatedActor::JointState ArticulatedActor::Advance(int link, JointState const& q, real const* x,
+                                                       real alpha) const {
+  JointState to = q;
+  switch (links_[link].joint) {
+    case JointType::Revolute:
+    case JointType::Prismatic: to.scalar = q.scalar + alpha * x[0]; break;
+    case JointType::Spherical: to.rotation = (q.rotation * Exp(alpha * Real3(x[0], x[1], x[2]))).normalized(); break;
+    case JointType::Free:
+      to.translation = q.translation + alpha * Real3(x[0], x[1], x[2]);
+      to.rotation = (q.rotation * Exp(alpha * Real3(x[3], x[4], x[5]))).normalized();
+      break;
+    case JointType::Fixed: break;
   }
+  return to;
 }
 
 bool ArticulatedActor::IsStateFinite() const {

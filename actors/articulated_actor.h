@@ -163,6 +163,19 @@ class ArticulatedActor final : public Actor, private internal::OwnBlockSolve {
   /// Refreshes path.position, path.rotation and path.jacobian at the current
   /// iterate: O(path length), no allocation.
   void ComputeLinkFrame(internal::LinkPath& path) const;
+  /// The frame of `path`'s link at the current iterate moved by α d, d the
+  /// actor's local increment (GetNumDofs() entries, applied as a Newton step
+  /// applies it): O(path length), no allocation. A link collider's
+  /// continuous collision detection (contact/contact_system.h).
+  void ComputeLinkFrameAlong(internal::LinkPath const& path, real const* d, real alpha, Real3& position,
+                             Quat& rotation) const;
+  /// A bound on the speed |dx/dα| of every point of `path`'s link within
+  /// `arm` of its frame origin while α runs over [0, alphaMax] along α d:
+  /// the sum over the path's joints of a translation's rate and a
+  /// rotation's rate times the farthest the point can be from that joint's
+  /// origin (the offsets along the path, which rotations keep, and the
+  /// prismatic and free translations reached).
+  real LinkSpeedBound(internal::LinkPath const& path, real const* d, real alphaMax, real arm) const;
 
   /// Link frame (origin and axes) in the world, at the committed
   /// configuration (the end of the last step).
@@ -304,6 +317,8 @@ class ArticulatedActor final : public Actor, private internal::OwnBlockSolve {
   void JointDifference(int link, JointState const& q, JointState const& q0, real* out) const;
   /// q ← saved ⊕ α d, d the actor's local increment (numDofs entries).
   void ApplyLocalIncrement(real const* d, real alpha);
+  /// Joint `link`'s state q ⊕ α x, x its DoFs' increment.
+  JointState Advance(int link, JointState const& q, real const* x, real alpha) const;
 
   // definition (immutable after creation)
   DynamicArray<Link> links_;

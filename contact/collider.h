@@ -1,8 +1,9 @@
 // Colliders: the shapes through which bodies and obstacles touch
 // (docs/contact.md).
 //
-// A collider belongs to an actor (a rigid actor, or the surface of a
-// deformable or rod actor) or, without one, is a static obstacle. Every shape
+// A collider belongs to an actor (a rigid actor, a link of an articulated
+// actor, or the surface of a deformable or rod actor) or, without one, is a
+// static obstacle. Every shape
 // is a set of primitives with a thickness: points (a sphere is its centre
 // with the radius as thickness), segments (a capsule, a rod's elements with
 // its radius), triangles (a box, a triangle mesh, the boundary of a
@@ -25,11 +26,13 @@ std::string_view ToString(ShapeType type);
 struct ColliderParams {
   /// The actor carrying the collider; null: a static obstacle (world frame).
   ActorHandle actor;
-  /// An articulated actor's link (−1: none). Not supported yet.
+  /// The link of an articulated `actor` carrying the collider (0 <= link <
+  /// its number of links; −1 for any other actor). The shape's pose is then
+  /// local to the link frame.
   int link = -1;
   ShapeType shape = ShapeType::Surface;
-  /// Pose of the shape: local to a rigid actor, or world for an obstacle.
-  /// Not used by Surface.
+  /// Pose of the shape: local to a rigid actor or a link, or world for an
+  /// obstacle. Not used by Surface.
   Real3 position = Real3::Zero();
   Quat rotation = Quat::Identity();
   /// Plane: the outward normal in the shape's frame (normalized on creation);

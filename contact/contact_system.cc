@@ -145,14 +145,28 @@ bool CheckWorldInRange(Collider const& c, std::string const& what, Error& error)
 
 // ---- colliders ----
 
-Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalActor* nodal, Error& error) {
+Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalActor* nodal,
+                             ArticulatedActor* articulated, Error& error) {
   if (!CheckFinite(p.position, "position", error) || !CheckUnitQuat(p.rotation, "rotation", error) ||
       !CheckNonNegative(p.friction, "friction", error) || !CheckNonNegative(p.thickness, "thickness", error) ||
       !CheckNonNegative(p.radius, "radius", error) || !CheckInRange(p.position, "position", error))
     return nullptr;
-  if (p.link != -1) {
-    error.Set(ErrorCode::NotSupported, "link: colliders on articulated links are not supported yet, got link " +
-                                           std::to_string(p.link));
+  if (articulated) {
+    if (p.link < 0 || p.link >= articulated->GetNumLinks()) {
+      error.Set(ErrorCode::InvalidArgument, "link must name a link of the articulated actor, in [0, " +
+                                                std::to_string(articulated->GetNumLinks()) + "), got " +
+                                                std::to_string(p.link));
+      return nullptr;
+    }
+    if (int const dofs = static_cast<int>(articulated->GetLinkPath(p.link).dofs.size()); dofs > kMaxLinkPathDofs) {
+      error.Set(ErrorCode::NotSupported, "link: a collider's link moves with at most " +
+                                             std::to_string(kMaxLinkPathDofs) + " joint DoFs, link " +
+                                             std::to_string(p.link) + " with " + std::to_string(dofs));
+      return nullptr;
+    }
+  } else if (p.link != -1) {
+    error.Set(ErrorCode::InvalidArgument,
+              "link: only a collider of an articulated actor names a link (-1 otherwise), got " + std::to_string(p.link));
     return nullptr;
   }
   if (p.shape == ShapeType::Surface && !nodal) {
@@ -165,7 +179,7 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
                                               std::string(ToString(p.shape)));
     return nullptr;
   }
-  if (p.shape == ShapeType::Plane && (rigid || nodal)) {
+  if (p.shape == ShapeType::Plane && (rigid || nodal || articulated)) {
     error.Set(ErrorCode::InvalidArgument, "shape: a Plane is a static obstacle (actor must be null)");
     return nullptr;
   }
@@ -177,8 +191,13 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
   c->mask_ = p.mask;
   c->rigid_ = rigid;
   c->nodal_ = nodal;
+  c->articulated_ = articulated;
   if (rigid) c->actor_ = rigid->GetHandle();
   if (nodal) c->actor_ = nodal->GetHandle();
+  if (articulated) {
+    c->actor_ = articulated->GetHandle();
+    c->path_ = articulated->GetLinkPath(p.link);
+  }
   c->system_ = this;
   c->created_ = c->start_ = c->target_ = c->now_ = c->stageStart_ = c->stageTarget_ = {p.position, p.rotation};
   DynamicArray<std::array<int, 3>> triangles;
@@ -568,9 +587,11 @@ void Collider::GetWorldVertices(DynamicArray<Real3>& vertices) const {
   vertices.resize(local_.size());
   for (std::size_t i = 0; i < local_.size(); ++i) {
     Vertex const& v = local_[i];
-    vertices[i] = rigid_ ? rigid_->TransformPoint(v.local)
-                  : nodal_ ? nodal_->GetNodePosition(v.node)
-                           : PlaceVertex(static_cast<int>(i), now_);
+    vertices[i] = rigid_         ? rigid_->TransformPoint(v.local)
+                  : articulated_ ? Real3(articulated_->GetLinkPosition(path_.link) +
+                                         articulated_->GetLinkRotation(path_.link) * v.local)
+                  : nodal_       ? nodal_->GetNodePosition(v.node)
+                                 : PlaceVertex(static_cast<int>(i), now_);
   }
 }
 
@@ -580,9 +601,10 @@ void ContactSystem::UpdatePositions(DynamicArray<Real3>& x) const {
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
     Collider const& col = *colliders_[c];
     int const first = firstVertex_[c];
-    if (col.rigid_) {
-      Real33 const r = col.rigid_->GetRotation().toRotationMatrix();
-      Real3 const t = col.rigid_->GetPosition();
+    if (col.articulated_) col.articulated_->ComputeLinkFrame(col.path_);
+    if (col.IsRigid()) {
+      Real33 const r = col.FrameRotation().toRotationMatrix();
+      Real3 const t = col.FramePosition();
       for (std::size_t i = 0; i < col.local_.size(); ++i) x[first + i] = t + r * col.local_[i].local;
     } else if (col.nodal_) {
       for (std::size_t i = 0; i < col.local_.size(); ++i) x[first + i] = col.nodal_->GetNodePosition(col.local_[i].node);
@@ -626,6 +648,11 @@ void ContactSystem::BeginStage(StageContext const& stage) {
       if (col.rigid_) {
         Real3 const arm = x_[i] - col.rigid_->GetPosition();
         speed = std::max(speed, (col.rigid_->GetLinearVelocity() + col.rigid_->GetAngularVelocity().cross(arm)).norm());
+      } else if (col.articulated_) {
+        int const link = col.path_.link;
+        Real3 const arm = x_[i] - col.articulated_->GetLinkCenterOfMass(link);
+        speed = std::max(speed, (col.articulated_->GetLinkLinearVelocity(link) +
+                                 col.articulated_->GetLinkAngularVelocity(link).cross(arm)).norm());
       } else {
         speed = std::max(speed, col.nodal_->GetNodeVelocity(col.local_[i - firstVertex_[c]].node).norm());
       }
@@ -943,9 +970,9 @@ Real3 ContactSystem::Slip(Pair const& pair, DynamicArray<Real3> const& x) const 
   Real3 slip = pair.slip0;
   for (int side = 0; side < 2; ++side) {
     Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
-    if (c.rigid_) {
+    if (c.IsRigid()) {
       real const sign = side == 0 ? 1 : -1;
-      slip += sign * (c.rigid_->GetPosition() - pair.center0[side] + StageTurn(pair, side).cross(pair.arm0[side]));
+      slip += sign * (c.FramePosition() - pair.center0[side] + StageTurn(pair, side).cross(pair.arm0[side]));
     } else if (c.nodal_) {
       for (int k = 0; k < pair.numVertices; ++k)
         if (pair.onBody[k] == (side == 0)) slip += pair.gamma[k] * (x[pair.v[k]] - x0_[pair.v[k]]);
@@ -983,13 +1010,13 @@ void ContactSystem::LagFriction(Pair& pair) const {
   // centre), as an arm from its centre
   for (int side = 0; side < 2; ++side) {
     Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
-    if (!c.rigid_) continue;
+    if (!c.IsRigid()) continue;
     real const sign = side == 0 ? 1 : -1;
     Real3 point = -sign * c.thickness_ * n;
     for (int k = 0; k < pair.numVertices; ++k)
       if (pair.onBody[k] == (side == 0)) point += sign * pair.gamma[k] * x0_[pair.v[k]];
-    pair.center0[side] = c.rigid_->GetPosition();
-    pair.rotation0[side] = c.rigid_->GetRotation();
+    pair.center0[side] = c.FramePosition();
+    pair.rotation0[side] = c.FrameRotation();
     pair.arm0[side] = point - pair.center0[side];
   }
   auto const it = anchors_.find(pair.key);
@@ -1074,8 +1101,8 @@ contact::ValueGradientHessian<12> ContactSystem::PairBarrier(Pair const& pair, b
 }
 
 Real3 ContactSystem::StageTurn(Pair const& pair, int side) const {
-  RigidActor const& rigid = *colliders_[side == 0 ? pair.body : pair.obstacle]->rigid_;
-  return Log(rigid.GetRotation() * pair.rotation0[side].conjugate());
+  Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
+  return Log(c.FrameRotation() * pair.rotation0[side].conjugate());
 }
 contact::TangentialFriction ContactSystem::PairFriction(Pair const& pair, DynamicArray<Real3> const& x) const {
   if (pair.lambda <= 0) return {};
@@ -1087,12 +1114,13 @@ contact::TangentialFriction ContactSystem::PairFriction(Pair const& pair, Dynami
 
 void ContactSystem::PairDofs(Pair const& pair, DynamicArray<int>& dofs) const {
   // side A's DoFs, then side B's (none for a static obstacle): a rigid side's
-  // 6, a nodal side's 3 per vertex of the pair, in the pair's vertex order
+  // 6, a link's path DoFs, a nodal side's 3 per vertex of the pair, in the
+  // pair's vertex order
   for (int side = 0; side < 2; ++side) {
     int const index = side == 0 ? pair.body : pair.obstacle;
     Collider const& c = *colliders_[index];
-    if (c.rigid_) {
-      for (int k = 0; k < 6; ++k) dofs.push_back(c.rigid_->GetDofOffset() + k);
+    if (c.IsRigid()) {
+      for (int k = 0; k < c.NumFrameDofs(); ++k) dofs.push_back(c.FrameDof(k));
     } else if (c.nodal_) {
       int const o = c.nodal_->GetDofOffset(), stride = c.nodal_->GetNodeDofStride();
       for (int k = 0; k < pair.numVertices; ++k) {
@@ -1103,6 +1131,14 @@ void ContactSystem::PairDofs(Pair const& pair, DynamicArray<int>& dofs) const {
     }
   }
 }
+void ContactSystem::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
+  for (auto const& c : colliders_) {
+    if (!c->articulated_ || c->path_.dofs.empty()) continue;
+    dofLists.emplace_back();
+    for (int k = 0; k < c->NumFrameDofs(); ++k) dofLists.back().push_back(c->FrameDof(k));
+  }
+}
+
 void ContactSystem::AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
   for (Pair const& pair : pairs_) {
     dofLists.emplace_back();
@@ -1117,9 +1153,9 @@ void ContactSystem::AddEnergy(HessianAssembler const&, int, EnergySum& sum) cons
 
 void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, AssemblyOptions const& options) const {
   UpdatePositions(x_);
-  // at most 18 DoFs: two rigid sides (12), or a rigid side and a nodal
-  // triangle (15)
-  constexpr int kMaxDofs = 18;
+  // at most 2 kMaxLinkPathDofs: two links (a rigid side has 6 DoFs, a
+  // nodal triangle 9)
+  constexpr int kMaxDofs = 2 * kMaxLinkPathDofs;
   using DofVector = Eigen::Matrix<real, Eigen::Dynamic, 1, 0, kMaxDofs, 1>;
   using DofMatrix = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDofs, kMaxDofs>;
   using VertexJacobian = Eigen::Matrix<real, 12, Eigen::Dynamic, 0, 12, kMaxDofs>;
@@ -1132,31 +1168,47 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
     contact::TangentialFriction const friction = PairFriction(pair, x_);
     // the vertices' positions and the slip as functions of the pair's DoFs
     // (PairDofs' order): J (vertices), Jf (slip), and each rigid side's
-    // rotation curvature of the barrier
+    // rotation curvature of the barrier and (a link) the barrier's wrench
+    // on its frame
     int const m = PairDofCount(pair);
     VertexJacobian J = VertexJacobian::Zero(12, m);
     SlipJacobian Jf = SlipJacobian::Zero(3, m);
     std::array<Real33, 2> curvature{Real33::Zero(), Real33::Zero()};
-    std::array<int, 2> rotationColumn{-1, -1};
+    std::array<Real3, 2> wrenchForce{Real3::Zero(), Real3::Zero()}, wrenchMoment{Real3::Zero(), Real3::Zero()};
+    std::array<int, 2> frameColumn{-1, -1};
     int column = 0;
     for (int side = 0; side < 2; ++side) {
       Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
       real const sign = side == 0 ? 1 : -1;
-      if (c.rigid_) {
-        Real3 const center = c.rigid_->GetPosition();
+      if (c.IsRigid()) {
+        // (δt, δθ) of the frame: a rigid actor's DoFs; a link's path DoFs
+        // through the frame's Jacobian B
+        int const dofs = c.NumFrameDofs();
+        auto place = [&](auto& target, int row, Eigen::Matrix<real, 3, 6> const& rows) {
+          if (c.rigid_) {
+            target.template block<3, 6>(row, column) = rows;
+          } else {
+            target.block(row, column, 3, dofs).noalias() = rows * c.path_.jacobian;
+          }
+        };
+        Real3 const center = c.FramePosition();
+        Eigen::Matrix<real, 3, 6> rows;
         for (int k = 0; k < pair.numVertices; ++k) {
           if (pair.onBody[k] != (side == 0)) continue;
           Real3 const arm = x_[pair.v[k]] - center;
-          J.block<3, 3>(3 * k, column) = Real33::Identity();
-          J.block<3, 3>(3 * k, column + 3) = -Hat(arm);
-          curvature[side] += RotatedVectorCurvature(e.gradient.segment<3>(3 * k), arm);
+          Real3 const g = e.gradient.segment<3>(3 * k);
+          rows << Real33::Identity(), -Hat(arm);
+          place(J, 3 * k, rows);
+          curvature[side] += RotatedVectorCurvature(g, arm);
+          wrenchForce[side] += g;
+          wrenchMoment[side] += arm.cross(g);
         }
         // ∂slip/∂(δt, δθ) = ±[I, −Hat(a⁰) J_l⁻¹(φ)] (the chart's curvature
         // dropped: the slip is nearly linear in φ over a stage)
-        Jf.block<3, 3>(0, column) = sign * Real33::Identity();
-        Jf.block<3, 3>(0, column + 3) = -sign * Hat(pair.arm0[side]) * LeftJacobianInverse(StageTurn(pair, side));
-        rotationColumn[side] = column + 3;
-        column += 6;
+        rows << sign * Real33::Identity(), -sign * Hat(pair.arm0[side]) * LeftJacobianInverse(StageTurn(pair, side));
+        place(Jf, 0, rows);
+        frameColumn[side] = column;
+        column += dofs;
       } else if (c.nodal_) {
         // a node's world position is T(X + u): R_T on its 3 DoFs
         Real33 const r = c.nodal_->GetTransformRotation().toRotationMatrix();
@@ -1193,8 +1245,27 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
     DofMatrix Hq = J.topRows(n).transpose() * e.hessian.topLeftCorner(n, n) * J.topRows(n) +
                    Jf.transpose() * stiffness * Jf;
     if (!options.projectHessian)
-      for (int side = 0; side < 2; ++side)
-        if (rotationColumn[side] >= 0) Hq.block<3, 3>(rotationColumn[side], rotationColumn[side]) += curvature[side];
+      for (int side = 0; side < 2; ++side) {
+        int const f = frameColumn[side];
+        if (f < 0) continue;
+        Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
+        if (c.rigid_) {
+          Hq.block<3, 3>(f + 3, f + 3) += curvature[side];
+          continue;
+        }
+        // a link: Bθᵀ C Bθ and the frame's own curvature against the
+        // barrier's wrench (F at the frame origin, M)
+        LinkPath const& path = c.path_;
+        int const dofs = c.NumFrameDofs();
+        auto const turn = path.jacobian.bottomRows<3>();
+        Hq.block(f, f, dofs, dofs).noalias() += turn.transpose() * curvature[side] * turn;
+        for (int i = 0; i < dofs; ++i)
+          for (int j = i; j < dofs; ++j) {
+            real const value = path.Curvature(i, j, wrenchForce[side], wrenchMoment[side]);
+            Hq(f + i, f + j) += value;
+            if (j != i) Hq(f + j, f + i) += value;
+          }
+      }
     int const contributor = options.firstStageContributor + static_cast<int>(p);
     assembler.AddDynamicGradient(contributor, gq);
     assembler.AddDynamicBlock(contributor, Hq);
@@ -1205,8 +1276,8 @@ int ContactSystem::PairDofCount(Pair const& pair) const {
   int count = 0;
   for (int side = 0; side < 2; ++side) {
     Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
-    if (c.rigid_) {
-      count += 6;
+    if (c.IsRigid()) {
+      count += c.NumFrameDofs();
     } else if (c.nodal_) {
       for (int k = 0; k < pair.numVertices; ++k) count += 3 * (pair.onBody[k] == (side == 0));
     }
@@ -1218,11 +1289,15 @@ int ContactSystem::PairDofCount(Pair const& pair) const {
 
 real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real tMax) const {
   // conservative advancement along the true paths — a rigid side's vertices
-  // on arcs x(α) = c + α δt + Exp(α δθ) a, a nodal side's on lines — with L
+  // on arcs x(α) = c + α δt + Exp(α δθ) a, a link's with its frame at q ⊕ α δq
+  // (forward kinematics along its path), a nodal side's on lines — with L
   // the sum of each side's largest speed per unit α (|δt| + |δθ| max|a| for a
-  // rigid side): advancing by (gap − target)/L never passes the target gap
+  // rigid side, ArticulatedActor::LinkSpeedBound for a link): advancing by
+  // (gap − target)/L never passes the target gap
   struct SideMotion {
     RigidActor const* rigid = nullptr;
+    Collider const* link = nullptr;
+    real const* jointStep = nullptr;  ///< a link's actor's share of δ
     Real3 center, dt, dr;
   };
   std::array<SideMotion, 2> motion;
@@ -1241,6 +1316,14 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
       for (int k = 0; k < pair.numVertices; ++k)
         if (pair.onBody[k] == (side == 0)) armBound = std::max(armBound, (x_[pair.v[k]] - s.center).norm());
       sideSpeed = s.dt.norm() + s.dr.norm() * armBound;
+    } else if (c.articulated_) {
+      SideMotion& s = motion[side];
+      s.link = &c;
+      s.jointStep = delta.data() + c.articulated_->GetDofOffset();
+      real armBound = 0;
+      for (int k = 0; k < pair.numVertices; ++k)
+        if (pair.onBody[k] == (side == 0)) armBound = std::max(armBound, (x_[pair.v[k]] - c.path_.position).norm());
+      sideSpeed = c.articulated_->LinkSpeedBound(c.path_, s.jointStep, tMax, armBound);
     } else {
       for (int k = 0; k < pair.numVertices; ++k)
         if (pair.onBody[k] == (side == 0)) sideSpeed = std::max(sideSpeed, displacement_[pair.v[k]].norm());
@@ -1257,6 +1340,16 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
   for (int iteration = 0; iteration < params_.ccdMaxIterations; ++iteration) {
     for (int side = 0; side < 2; ++side) {
       SideMotion const& s = motion[side];
+      if (s.link) {
+        Real3 origin;
+        Quat rotation;
+        s.link->articulated_->ComputeLinkFrameAlong(s.link->path_, s.jointStep, t, origin, rotation);
+        int const first = firstVertex_[side == 0 ? pair.body : pair.obstacle];
+        for (int k = 0; k < pair.numVertices; ++k)
+          if (pair.onBody[k] == (side == 0))
+            trial_[pair.v[k]] = origin + rotation * s.link->local_[pair.v[k] - first].local;
+        continue;
+      }
       Real33 const turn = s.rigid ? ExpMatrix(t * s.dr) : Real33::Identity();
       for (int k = 0; k < pair.numVertices; ++k) {
         if (pair.onBody[k] != (side == 0)) continue;
@@ -1317,10 +1410,17 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
     Collider const& col = *colliders_[c];
     for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) displacement_[i].setZero();
-    if (col.rigid_) {
-      int const o = col.rigid_->GetDofOffset();
-      Real3 const dt(delta[o], delta[o + 1], delta[o + 2]), dr(delta[o + 3], delta[o + 4], delta[o + 5]);
-      Real3 const center = col.rigid_->GetPosition();
+    if (col.IsRigid()) {
+      // the frame's (δt, δθ): a rigid actor's DoFs, a link's B δq
+      Eigen::Matrix<real, 6, 1> frame;
+      if (col.rigid_) {
+        frame = Eigen::Map<Eigen::Matrix<real, 6, 1> const>(delta.data() + col.rigid_->GetDofOffset());
+      } else {
+        frame.setZero();
+        for (int k = 0; k < col.NumFrameDofs(); ++k) frame += col.path_.jacobian.col(k) * delta[col.FrameDof(k)];
+      }
+      Real3 const dt = frame.head<3>(), dr = frame.tail<3>();
+      Real3 const center = col.FramePosition();
       for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) displacement_[i] = dt + dr.cross(x_[i] - center);
     } else if (col.nodal_) {
       Real33 const r = col.nodal_->GetTransformRotation().toRotationMatrix();
@@ -1347,7 +1447,7 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
     if (selfBound_[c] > 0) safe = std::min(safe, SelfSafeStep(c, safe));
   // continuous collision detection of every candidate along the step
   for (Pair const& pair : pairs_)
-    safe = colliders_[pair.body]->rigid_ || colliders_[pair.obstacle]->rigid_ ? RigidPairCcd(pair, delta, safe)
+    safe = colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid() ? RigidPairCcd(pair, delta, safe)
                                                                              : safe * LinearPairCcd(pair, x_, safe);
   return safe;
 }

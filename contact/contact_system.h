@@ -13,9 +13,12 @@
 // candidate set stays complete and no trial passes one surface through
 // another. At the stage end it moves each sliding contact's stick anchor.
 //
-// Contacts: bodies (rigid actors' shapes, the surfaces of deformable and rod
-// actors) against static obstacles and against each other (no self contact
-// yet). A contact with an obstacle touches only its body's own DoF block, so
+// Contacts: bodies (rigid actors' and articulated links' shapes, the
+// surfaces of deformable and rod actors) against static obstacles and
+// against each other, and a deformable or rod actor against itself. A link
+// moves with its path's joints: its contacts act on those DoFs through the
+// link frame's Jacobian (stage/link_path.h), and the links of one actor do
+// not touch each other. A contact with an obstacle touches only its body's own DoF block, so
 // the analysed pattern always fits; one between two bodies joins their
 // blocks (the pattern grows in its kept order).
 #pragma once
@@ -25,6 +28,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include <superdex/actors/articulated_actor.h>
 #include <superdex/actors/nodal_actor.h>
 #include <superdex/actors/rigid_actor.h>
 #include <superdex/contact/collider.h>
@@ -40,6 +44,10 @@ namespace superdex {
 namespace internal {
 class ContactSystem;
 }
+
+/// The most joint DoFs a link collider's link may move with (its path from
+/// the root): a contact's block is at most two of them.
+inline constexpr int kMaxLinkPathDofs = 24;
 
 /// One active contact of the last step (Scene::GetContacts).
 struct ContactInfo {
@@ -62,7 +70,9 @@ class Collider {
   int GetNumVertices() const { return static_cast<int>(local_.size()); }
   int GetNumTriangles() const { return static_cast<int>(triangles_.size()); }
   /// Carried by an actor (a body), not a static obstacle.
-  bool Moves() const { return rigid_ != nullptr || nodal_ != nullptr; }
+  bool Moves() const { return rigid_ != nullptr || nodal_ != nullptr || articulated_ != nullptr; }
+  /// The link of an articulated actor carrying it (−1: none).
+  int GetLink() const { return path_.link; }
   std::uint32_t GetGroup() const { return group_; }
   std::uint32_t GetMask() const { return mask_; }
 
@@ -105,7 +115,7 @@ class Collider {
  private:
   /// A vertex as the contact system reads it
   struct Vertex {
-    Real3 local = Real3::Zero();  ///< body frame (rigid) or world (static, at creation)
+    Real3 local = Real3::Zero();  ///< body or link frame (rigid, link) or world (static, at creation)
     int node = -1;                ///< node index (Surface)
   };
   struct Pose {
@@ -138,6 +148,19 @@ class Collider {
   // the carrying body (none: static)
   RigidActor* rigid_ = nullptr;
   NodalActor* nodal_ = nullptr;
+  ArticulatedActor* articulated_ = nullptr;
+  /// a link's path, its frame at the current iterate (ContactSystem::UpdatePositions)
+  mutable internal::LinkPath path_;
+  /// Moves as one rigid frame (a rigid actor or a link): its vertices are
+  /// fixed in it
+  bool IsRigid() const { return rigid_ != nullptr || articulated_ != nullptr; }
+  /// That frame's origin and rotation at the current iterate (a rigid
+  /// actor's centre of mass, a link's frame)
+  Real3 FramePosition() const { return rigid_ ? rigid_->GetPosition() : path_.position; }
+  Quat FrameRotation() const { return rigid_ ? rigid_->GetRotation() : path_.rotation; }
+  /// Its DoFs: a rigid actor's 6 (δt, δθ), a link's path DoFs
+  int NumFrameDofs() const { return rigid_ ? 6 : static_cast<int>(path_.dofs.size()); }
+  int FrameDof(int k) const { return rigid_ ? rigid_->GetDofOffset() + k : articulated_->GetDofOffset() + path_.dofs[k]; }
   // Plane: world normal and the offset c of n·x = c
   Real3 planeNormal_ = Real3::Zero();
   real planeOffset_ = 0;
@@ -162,10 +185,11 @@ class ContactSystem final : public StageTerm {
  public:
   explicit ContactSystem(ContactParams const& params) : params_(params) {}
 
-  /// Validates and adds a collider; `rigid` / `nodal` the carrying actor
-  /// (both null: static). nullptr and an InvalidArgument naming the field on
-  /// bad input, nothing added.
-  Collider* Add(ColliderParams const& params, RigidActor* rigid, NodalActor* nodal, Error& error);
+  /// Validates and adds a collider; `rigid` / `nodal` / `articulated` the
+  /// carrying actor (all null: static). nullptr and an InvalidArgument naming
+  /// the field on bad input, nothing added.
+  Collider* Add(ColliderParams const& params, RigidActor* rigid, NodalActor* nodal, ArticulatedActor* articulated,
+                Error& error);
   /// Removes every collider of `actor` (an actor being destroyed).
   void RemoveActor(ActorHandle actor);
   bool Empty() const { return colliders_.empty(); }
@@ -194,7 +218,11 @@ class ContactSystem final : public StageTerm {
   void CommitStep();
 
   // StageTerm
-  void AppendContributorDofs(DynamicArray<DynamicArray<int>>&) const override {}
+  /// One contributor per link collider over its path's DoFs: the block its
+  /// contacts with obstacles fill stays in the analysed pattern, and an
+  /// actor whose collider's path spans several joints is solved as a dense
+  /// block (its tree solve takes no contributor across joints)
+  void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
   void AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
   void BeginStage(StageContext const& stage) override;
   void AddEnergy(HessianAssembler const& assembler, int firstContributor, EnergySum& sum) const override;

@@ -249,6 +249,7 @@ Collider* Scene::CreateCollider(ColliderParams const& params, Error& error) {
   }
   RigidActor* rigid = nullptr;
   NodalActor* nodal = nullptr;
+  ArticulatedActor* articulated = nullptr;
   if (!params.actor.IsNull()) {
     Actor* actor = actors_.Get(params.actor);
     if (!actor) {
@@ -261,11 +262,10 @@ Collider* Scene::CreateCollider(ColliderParams const& params, Error& error) {
     } else if (actor->GetType() == ActorType::Deformable || actor->GetType() == ActorType::Rod) {
       nodal = static_cast<NodalActor*>(actor);
     } else {
-      error.Set(ErrorCode::NotSupported, "CreateCollider: colliders on articulated actors are not supported yet");
-      return nullptr;
+      articulated = static_cast<ArticulatedActor*>(actor);
     }
   }
-  Collider* collider = contact_.Add(params, rigid, nodal, error);
+  Collider* collider = contact_.Add(params, rigid, nodal, articulated, error);
   if (!collider) return nullptr;
   OnTopologyChanged();
   return collider;

@@ -167,7 +167,7 @@ int main(int argc, char** argv) {
     int indefinite = 0, inverted = 0;
     for (int e = 0; e < n; ++e) {
       Matrix9 const a = superdex::internal::TetStressDerivative(model, lame, elements.f[e]);
-      Vector9 const eigenvalues = superdex::SymmetricEigenvalues(a);
+      auto const eigenvalues = superdex::SymmetricEigenvalues(a);
       // negative beyond round-off (LinearElastic's exact zeros come out ±1e-16)
       if (eigenvalues[0] < -1e-12 * eigenvalues[8]) ++indefinite;
       if (elements.f[e].determinant() <= 0) ++inverted;

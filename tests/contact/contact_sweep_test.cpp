@@ -30,6 +30,7 @@ void Sweep(std::string const& name, std::function<ContactScene(SceneParams)> con
     real minGap = std::numeric_limits<real>::infinity();
     auto const start = std::chrono::steady_clock::now();
     for (int s = 0; s < steps; ++s) {
+      if (scene.drive) scene.drive(static_cast<real>(s) / rate);
       Error error;
       bool const stepped = scene.scene->Step(1.0 / rate, error);
       INFO(name << " at dt = 1/" << rate << ", step " << s << ": " << error.ToString());
@@ -67,6 +68,10 @@ TEST_CASE("contact sweep: a soft ball dropped from 1 m", "[contact][sweep][long]
 
 TEST_CASE("contact sweep: a stack of 5 rigid boxes", "[contact][sweep][long]") {
   Sweep("box stack", [](SceneParams p) { return BoxStackScene(p); });
+}
+
+TEST_CASE("contact sweep: a 5-link arm pushes a box across the ground", "[contact][sweep][articulated]") {
+  Sweep("arm push", ArmPushScene);
 }
 
 TEST_CASE("contact sweep: a stack of 5 tet cubes", "[contact][sweep][long]") {

@@ -104,3 +104,33 @@ def test_a_kinematic_ground_lifts_the_box_and_the_geometry_reads_back():
     with raises(mochi.ErrorCode.InvalidArgument, "intersects collider"):
         ground.set_transform([0, 0.5, 0], [1, 0, 0, 0])
     assert ground.get_position()[1] == pytest.approx(0.1, rel=1e-12)
+
+
+def test_a_link_collider_stops_a_swinging_pendulum_on_the_ground():
+    # a revolute pendulum 0.35 m up, released horizontal; the sphere (r = 5 cm)
+    # 0.4 m out on its link would swing to 5 cm below the ground: it comes to
+    # rest on it instead (0.35 - 0.4 sin(theta) = r, sin(theta) = 0.75)
+    scene = mochi.Scene.create()
+    ground = scene.create_collider(shape=mochi.ShapeType.Plane, friction=0.5)
+    arm = scene.create_articulated_actor(links=[
+        mochi.ArticulatedLinkParams(parent=-1, joint=mochi.JointType.Revolute, axis=[0, 0, 1],
+                                    parent_to_joint_position=[0, 0.35, 0], center_of_mass=[0.2, 0, 0],
+                                    mass=1.0, inertia=[1e-3, 0.0133, 0.0133])])
+    tip = scene.create_collider(actor=arm, link=0, shape=mochi.ShapeType.Sphere, radius=0.05,
+                                position=[0.4, 0, 0])
+    assert tip.get_link() == 0 and tip.get_actor() == arm.get_handle()
+    for _ in range(90):
+        scene.step(1.0 / 60)
+        angle = arm.get_joint_positions()[0]
+        centre = 0.35 + 0.4 * math.sin(angle)  # the sphere's centre height
+        assert centre > 0.05  # above the ground by its radius: never through it
+    # at rest on the ground: the sphere's gap in (0, d-hat = 1 mm), the angle
+    # near -asin(0.75)
+    gap = 0.35 + 0.4 * math.sin(arm.get_joint_positions()[0]) - 0.05
+    assert 0 < gap < 1e-3
+    contacts = scene.get_contacts()
+    assert len(contacts) == 1
+    assert contacts[0].collider_a == tip.get_id() and contacts[0].collider_b == ground.get_id()
+    assert abs(arm.get_joint_velocities()[0]) < 1e-3
+    with raises(mochi.ErrorCode.InvalidArgument, "link must name a link"):
+        scene.create_collider(actor=arm, link=1, shape=mochi.ShapeType.Sphere, radius=0.05)

@@ -36,7 +36,7 @@ void DefineContact(py::module_& m) {
                  "A collider (Scene.create_collider): on an actor, or a static obstacle with actor "
                  "None.")
       .Field("actor", &C::actor, "the carrying actor (rigid, deformable or rod); None: a static obstacle")
-      .Field("link", &C::link, "an articulated actor's link (-1: none; not supported yet)")
+      .Field("link", &C::link, "the link of an articulated actor carrying the collider (-1 for any other actor); the pose is then local to the link frame")
       .Field("shape", &C::shape, "ShapeType, default Surface")
       .Field("position", &C::position, "the shape's pose: local to a rigid actor, world for an obstacle [m]")
       .Field("rotation", &C::rotation, "(w, x, y, z), unit")
@@ -56,6 +56,8 @@ void DefineContact(py::module_& m) {
       .def("get_shape", [](ColliderRef const& c) { return c.Get().GetShape(); })
       .def("get_actor", [](ColliderRef const& c) { return c.Get().GetActor(); },
            "the carrying actor's handle (a null handle for a static obstacle)")
+      .def("get_link", [](ColliderRef const& c) { return c.Get().GetLink(); },
+           "the articulated actor's link carrying it (-1: none)")
       .def("get_friction", [](ColliderRef const& c) { return c.Get().GetFriction(); })
       .def("get_thickness", [](ColliderRef const& c) { return c.Get().GetThickness(); },
            "the thickness around every primitive [m] (a Sphere's, Capsule's or rod's radius)")
