@@ -267,7 +267,7 @@ std::uint64_t BlockPair(int a, int b) {
 }
 }  // namespace
 
-bool HessianAssembler::SetDynamicContributors(DynamicArray<DynamicArray<int>> const& dofLists,
+bool HessianAssembler::SetDynamicContributors(Span<DynamicArray<int> const> dofLists,
                                               DynamicUpdate& update, Error& error, bool rebuildWhenChanged) {
   update = DynamicUpdate{};
   if (!analyzed_ || GetNumParts() != 1) {
@@ -296,8 +296,10 @@ bool HessianAssembler::SetDynamicContributors(DynamicArray<DynamicArray<int>> co
         bool const inserted = reserved_.insert_or_assign(BlockPair(a, b), dynamicStage_).second;
         added += inserted && a != b;  // a new edge of the block graph (a block's own pair always is one)
       }
-  // their slots; a missing entry makes the pattern grow
-  DynamicArray<int> slots;
+  // their slots (into the scratch that the last stage's slots left: no
+  // allocation once it has grown); a missing entry makes the pattern grow
+  DynamicArray<int>& slots = slotScratch_;
+  slots.clear();
   bool dropsEntries = false;
   auto const stored = [](int, int) { return true; };
   dynamicDofStart_.assign(1, 0);
@@ -313,7 +315,7 @@ bool HessianAssembler::SetDynamicContributors(DynamicArray<DynamicArray<int>> co
     slots.clear();
     for (auto const& dofs : dofLists) AppendSlots(matrix_, permutation_, dofs, stored, slots, dropsEntries);
   }
-  dynamicSlots_ = std::move(slots);
+  std::swap(dynamicSlots_, slots);
   dynamicSlotStart_.assign(1, 0);
   for (auto const& dofs : dofLists) {
     int const n = static_cast<int>(dofs.size());

@@ -107,8 +107,13 @@ class HessianAssembler {
   /// pairs change, for comparisons): no reserve; a set of DoF lists that
   /// differs from the last stage's rebuilds and orders the pattern anew for
   /// exactly these.
-  bool SetDynamicContributors(DynamicArray<DynamicArray<int>> const& dofLists, DynamicUpdate& update, Error& error,
+  bool SetDynamicContributors(Span<DynamicArray<int> const> dofLists, DynamicUpdate& update, Error& error,
                               bool rebuildWhenChanged = false);
+  bool SetDynamicContributors(DynamicArray<DynamicArray<int>> const& dofLists, DynamicUpdate& update, Error& error,
+                              bool rebuildWhenChanged = false) {
+    return SetDynamicContributors(Span<DynamicArray<int> const>(dofLists.data(), dofLists.size()), update, error,
+                                  rebuildWhenChanged);
+  }
   int GetNumDynamicContributors() const { return static_cast<int>(dynamicDofStart_.size()) - 1; }
   /// Pattern rebuilds that kept the fill-reducing order (the second family's
   /// pairs grew), since construction.
@@ -354,6 +359,7 @@ class HessianAssembler {
   std::int64_t orderedBlockPairs_ = 0;      ///< edges + blocks of the block graph last ordered
   std::int64_t numGrowths_ = 0;
   DynamicArray<int> dynamicDofStart_{0}, dynamicDofs_, dynamicSlotStart_{0}, dynamicSlots_;
+  DynamicArray<int> slotScratch_;  ///< SetDynamicContributors's slots being made (swapped with dynamicSlots_)
   DynamicArray<real> dynamicValueStage_, dynamicGradientStage_;
 };
 

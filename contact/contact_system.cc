@@ -1019,8 +1019,10 @@ void ContactSystem::LagFriction(Pair& pair) const {
     pair.rotation0[side] = c.FrameRotation();
     pair.arm0[side] = point - pair.center0[side];
   }
-  auto const it = anchors_.find(pair.key);
-  pair.slip0 = it == anchors_.end() ? Real3::Zero() : Real3(pair.basis * (pair.basis.transpose() * it->second));
+  auto const it = std::lower_bound(anchors_.begin(), anchors_.end(), pair.key,
+                                   [](auto const& anchor, std::uint64_t key) { return anchor.first < key; });
+  bool const found = it != anchors_.end() && it->first == pair.key;
+  pair.slip0 = found ? Real3(pair.basis * (pair.basis.transpose() * it->second)) : Real3::Zero();
 }
 namespace {
 /// The barrier of a pair of n coordinates, Hessian projected to PSD, in the
@@ -1139,11 +1141,8 @@ void ContactSystem::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLi
   }
 }
 
-void ContactSystem::AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const {
-  for (Pair const& pair : pairs_) {
-    dofLists.emplace_back();
-    PairDofs(pair, dofLists.back());
-  }
+void ContactSystem::AppendStageContributorDofs(StageDofLists& dofLists) const {
+  for (Pair const& pair : pairs_) PairDofs(pair, dofLists.Add());
 }
 
 void ContactSystem::AddEnergy(HessianAssembler const&, int, EnergySum& sum) const {
@@ -1492,8 +1491,15 @@ void ContactSystem::EndStage() {
     Real3 slip = pair.basis * (pair.basis.transpose() * Slip(pair, x_));
     real const norm = slip.norm();
     if (norm > g) slip *= g / norm;
-    anchors_[pair.key] = slip;
+    anchors_.emplace_back(pair.key, slip);
   }
+  // by key for LagFriction's search (in place: no allocation); equal keys,
+  // were two pairs' hashes to collide, in a fixed order
+  std::sort(anchors_.begin(), anchors_.end(), [](auto const& a, auto const& b) {
+    return a.first != b.first ? a.first < b.first
+                              : std::lexicographical_compare(a.second.data(), a.second.data() + 3, b.second.data(),
+                                                             b.second.data() + 3);
+  });
 }
 
 void ContactSystem::GetContacts(DynamicArray<ContactInfo>& contacts) const {

@@ -25,7 +25,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
 #include <utility>
 
 #include <superdex/actors/articulated_actor.h>
@@ -223,7 +222,7 @@ class ContactSystem final : public StageTerm {
   /// actor whose collider's path spans several joints is solved as a dense
   /// block (its tree solve takes no contributor across joints)
   void AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
-  void AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override;
+  void AppendStageContributorDofs(StageDofLists& dofLists) const override;
   void BeginStage(StageContext const& stage) override;
   void AddEnergy(HessianAssembler const& assembler, int firstContributor, EnergySum& sum) const override;
   void AddGradientAndHessian(HessianAssembler& assembler, int firstContributor,
@@ -352,7 +351,9 @@ class ContactSystem final : public StageTerm {
   DynamicArray<Real3> sweepScratch_;
   std::uint64_t treeStamp_ = 0;
   DynamicArray<contact::IndexPair> pairScratch_;
-  std::unordered_map<std::uint64_t, Real3> anchors_, savedAnchors_;
+  /// The friction anchors of the sticking and sliding contacts (pair key,
+  /// slip offset), sorted by key: storage kept from stage to stage
+  DynamicArray<std::pair<std::uint64_t, Real3>> anchors_, savedAnchors_;
   mutable DynamicArray<Real3> displacement_, trial_;
   int active_ = 0;
   real minDistance_ = 0;

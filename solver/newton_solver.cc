@@ -115,13 +115,13 @@ bool NewtonSolver::BeginStage(StageContext& stage, NewtonParams const& newton, S
 }
 
 bool NewtonSolver::SetStageContributors(SceneStats& stats, Error& error) {
-  stageDofs_.clear();
+  stageDofs_.Clear();
   problem_.AppendStageContributorDofs(stageDofs_);
   stats.stageContributors = static_cast<int>(stageDofs_.size());
   if (stageDofs_.empty() && assembler_.GetNumDynamicContributors() == 0) return true;
   auto const start = Clock::now();
   HessianAssembler::DynamicUpdate update;
-  if (!assembler_.SetDynamicContributors(stageDofs_, update, error,
+  if (!assembler_.SetDynamicContributors(stageDofs_.Lists(), update, error,
                                          patternPolicy_ == PatternPolicy::RebuildWhenChanged))
     return false;
   stats.reservedBlockPairs = static_cast<std::int64_t>(assembler_.GetNumReservedPairs());

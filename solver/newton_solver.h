@@ -114,7 +114,7 @@ class NewtonSolver {
   ConvergenceTest convergence_;
   LineSearch lineSearch_;
   VectorX gradient_, delta_;   ///< ∇E and δ, natural order
-  DynamicArray<DynamicArray<int>> stageDofs_;  ///< the stage contributors' DoF lists
+  StageDofLists stageDofs_;  ///< the stage contributors' DoF lists (storage kept)
   VectorX dofInverseMasses_;   ///< 1/M_jj per DoF (StageDofs::WriteDofInverseMasses), near-rigid cap only
   PatternPolicy patternPolicy_ = PatternPolicy::ReserveAndGrow;
   FaultInjection fault_;

@@ -32,7 +32,7 @@ void StageProblem::BeginStage(StageContext const& stage) {
   for (StageTerm* term : terms_) term->BeginStage(stage);
 }
 
-void StageProblem::AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) {
+void StageProblem::AppendStageContributorDofs(StageDofLists& dofLists) {
   for (std::size_t t = 0; t < terms_.size(); ++t) {
     firstStageContributor_[t] = static_cast<int>(dofLists.size());
     terms_[t]->AppendStageContributorDofs(dofLists);

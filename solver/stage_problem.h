@@ -33,7 +33,7 @@ class StageProblem {
   void BeginStage(StageContext const& stage);
   /// The terms' stage contributors (the second family) for this stage, in
   /// term order, recording each term's first.
-  void AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists);
+  void AppendStageContributorDofs(StageDofLists& dofLists);
   /// Every DoF owner to its first iterate, or back to the stage start when a
   /// term that bounds steps refuses the move (StageTerm::AcceptsFirstIterate).
   void MoveToFirstIterate();

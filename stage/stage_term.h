@@ -77,6 +77,30 @@ struct AcceptedStep {
   bool corrected = false;
 };
 
+/// The DoF lists of the stage contributors (StageTerm::
+/// AppendStageContributorDofs), their storage kept from one stage to the
+/// next so that a stage start allocates nothing once the lists have grown to
+/// their size: Add() gives the next list, empty.
+class StageDofLists {
+ public:
+  void Clear() { size_ = 0; }
+  DynamicArray<int>& Add() {
+    if (size_ == lists_.size()) lists_.emplace_back();
+    DynamicArray<int>& list = lists_[size_++];
+    list.clear();
+    return list;
+  }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  DynamicArray<int> const& operator[](std::size_t i) const { return lists_[i]; }
+  /// The lists added since Clear().
+  Span<DynamicArray<int> const> Lists() const { return {lists_.data(), size_}; }
+
+ private:
+  DynamicArray<DynamicArray<int>> lists_;
+  std::size_t size_ = 0;
+};
+
 /// A contributor to a stage's incremental potential.
 ///
 /// Order of calls: at each pattern build AppendContributorDofs (after the
@@ -104,8 +128,9 @@ class StageTerm {
   virtual void ReserveThreads(int /*numThreads*/) {}
   /// Contributors whose DoF lists change between stages (contact pairs: the
   /// second family of HessianAssembler): their DoF lists for this stage,
-  /// appended after BeginStage. The default has none.
-  virtual void AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& /*dofLists*/) const {}
+  /// appended after BeginStage (each StageDofLists::Add). The default has
+  /// none.
+  virtual void AppendStageContributorDofs(StageDofLists& /*dofLists*/) const {}
 
   /// Prepares the stage from the committed configuration.
   virtual void BeginStage(StageContext const& stage) = 0;

@@ -160,7 +160,7 @@ TEST_CASE("reserved pairs leave at a rebuild only after kReserveStages stages un
   std::size_t const reserved = assembler.GetNumReservedPairs();
   // unused, (0, 7) stays reserved (no rebuild only to shrink the pattern),
   // and a new pair's growth within the hysteresis keeps it
-  for (int s = 0; s < 5; ++s) REQUIRE(assembler.SetDynamicContributors({}, update, error));
+  for (int s = 0; s < 5; ++s) REQUIRE(assembler.SetDynamicContributors(DynamicArray<DynamicArray<int>>{}, update, error));
   REQUIRE(assembler.SetDynamicContributors({Pair(1, 8)}, update, error));
   REQUIRE(update.grew);
   CHECK(assembler.GetNumReservedPairs() == reserved + 3);  // (1, 1), (1, 8), (8, 8)
@@ -203,7 +203,7 @@ TEST_CASE("many new pairs order the pattern again; RebuildWhenChanged orders it 
     CHECK_FALSE(update.grew);
     // a pair that goes leaves the pattern at once
     std::int64_t const withPair = assembler.CountOwnedColumnEntries();
-    REQUIRE(assembler.SetDynamicContributors({}, update, error, true));
+    REQUIRE(assembler.SetDynamicContributors(DynamicArray<DynamicArray<int>>{}, update, error, true));
     CHECK(update.reordered);
     CHECK(assembler.CountOwnedColumnEntries() < withPair);
     CHECK(assembler.GetNumPatternBuilds() == 3);

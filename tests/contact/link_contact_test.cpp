@@ -83,7 +83,8 @@ struct LinkContact {
     stage.coefficients.duration = 0.01;
     contact->BeginStage(stage);
     REQUIRE(contact->GetNumCandidates() == 2);  // the capsule's two ends against the plane
-    DynamicArray<DynamicArray<int>> reserved, pairs;
+    DynamicArray<DynamicArray<int>> reserved;
+    internal::StageDofLists pairs;
     contact->AppendContributorDofs(reserved);
     REQUIRE(reserved.size() == 1);
     REQUIRE(static_cast<int>(reserved[0].size()) == 13);  // 6 + 3 + 0 + 1 + 3
@@ -92,7 +93,7 @@ struct LinkContact {
     REQUIRE(assembler.Analyze(n, blocks, reserved, OrderingMethod::Natural, error));
     contact->AppendStageContributorDofs(pairs);
     internal::HessianAssembler::DynamicUpdate update;
-    REQUIRE(assembler.SetDynamicContributors(pairs, update, error));
+    REQUIRE(assembler.SetDynamicContributors(pairs.Lists(), update, error));
   }
 
   real Energy() const {

@@ -40,6 +40,9 @@ std::vector<std::uint8_t> Digest(Scene const& scene) {
       put(rigid->GetLinearVelocity());
     } else if (auto const* nodal = dynamic_cast<NodalActor const*>(&actor)) {
       for (int i = 0; i < nodal->GetNumNodes(); ++i) put(nodal->GetNodePosition(i));
+    } else if (auto const* arm = dynamic_cast<ArticulatedActor const*>(&actor)) {
+      for (real q : arm->GetJointPositions()) put(q);
+      for (real v : arm->GetJointVelocities()) put(v);
     }
   });
   for (int id = 0, seen = 0; seen < scene.GetNumColliders() && id < 4096; ++id)
@@ -98,7 +101,9 @@ class Driver {
 
  private:
   bool Call(Error& error) {
-    switch (in_.Int(8)) {
+    // (Int(9): the named seeds' calls, bytes 0..7, kept their meaning when
+    // CreateArm came)
+    switch (in_.Int(9)) {
       case 0: return kind_ = "CreateRigid", CreateRigid(error);
       case 1:
       case 2: return kind_ = "CreateObstacle", CreateObstacle(error);
@@ -106,6 +111,7 @@ class Driver {
       case 4:
       case 5: return kind_ = "MoveObstacle", MoveObstacle(error);
       case 6: return kind_ = "Kick", Kick(error);
+      case 8: return kind_ = "CreateArm", CreateArm(error);
       default: return kind_ = "Step", Step(error);
     }
   }
@@ -204,6 +210,39 @@ class Driver {
     return scene_->CreateCollider(surface, error) != nullptr;
   }
 
+  /// An articulated actor of 1–3 links (any joint types, hostile axes and
+  /// masses now and then) and a body shape on one of its links (the link
+  /// index out of range now and then).
+  bool CreateArm(Error& error) {
+    if (arms_ == kMaxArms) return true;
+    static constexpr JointType kJoints[] = {JointType::Revolute, JointType::Prismatic, JointType::Spherical,
+                                            JointType::Free, JointType::Fixed};
+    ArticulatedActorParams arm;
+    int const links = 1 + in_.Int(3);
+    for (int i = 0; i < links; ++i) {
+      ArticulatedLinkParams link;
+      link.parent = i - 1;
+      link.joint = kJoints[in_.Int(5)];
+      link.axis = in_.Int(4) ? Real3::UnitZ() : in_.Vector();
+      link.parentToJointPosition = i == 0 ? Place() : Real3(0, -Size(), 0);
+      link.centerOfMass = Real3(0, -0.05, 0);
+      link.inertia = Real3::Constant(1e-3);
+      if (in_.Int(4) == 0) link.mass = in_.Real();
+      arm.links.push_back(link);
+    }
+    ArticulatedActor* actor = scene_->CreateArticulatedActor(arm, error);
+    if (!actor) return false;
+    ++arms_;
+    before_ = Digest(*scene_);  // the collider is the next call
+    ColliderParams shape = Shape(false);
+    shape.actor = actor->GetHandle();
+    shape.link = in_.Int(4) ? in_.Int(links) : in_.Int(256) - 128;
+    shape.position = Real3(0, -0.05, 0);
+    if (trace_)
+      std::fprintf(stderr, "  arm of %d links, shape %d on link %d\n", links, static_cast<int>(shape.shape), shape.link);
+    return scene_->CreateCollider(shape, error) != nullptr;
+  }
+
   Collider* PickCollider() {
     int const count = scene_->GetNumColliders();
     if (count == 0) return nullptr;
@@ -268,8 +307,10 @@ class Driver {
 
   static constexpr double kWorkBudget = 120;  ///< weighted Newton iterations per input
   static constexpr int kMaxNodalActors = 2;   ///< at most ~800 contact pairs
+  static constexpr int kMaxArms = 1;
   double work_ = 0;
   int nodalActors_ = 0;
+  int arms_ = 0;
   Input& in_;
   bool const trace_ = std::getenv("SUPERDEX_FUZZ_TRACE") != nullptr;  ///< each call's outcome on stderr
   char const* kind_ = "";  ///< the current call's name, for the trace

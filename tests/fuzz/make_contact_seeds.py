@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Writes the named seeds of tests/fuzz/corpus/contact/ from the byte layout
 that fuzz_contact.cpp reads (each value one byte, read in the order written
-here; Input::Int(n) is byte % n). The scenes: a box dropped on the ground and
+here; Input::Int(n) is byte % n; Input::Real() a table value for a byte
+below 240: 0 is 0, 1 is 1). The scenes: a box dropped on the ground and
 left to rest, a kinematic paddle pushing a box, a rod and a tet cube dropped
-on the ground. Run it after changing what fuzz_contact.cpp reads:
+on the ground, an arm's capsule landing on the ground. Run it after changing what fuzz_contact.cpp reads:
 
     /usr/bin/python3 tests/fuzz/make_contact_seeds.py
 """
@@ -11,8 +12,9 @@ from pathlib import Path
 
 CORPUS = Path(__file__).resolve().parent / "corpus" / "contact"
 
-# Driver::Call's choice (in_.Int(8))
-CREATE_RIGID, CREATE_OBSTACLE, CREATE_NODAL, MOVE_OBSTACLE, KICK, STEP = 0, 1, 3, 4, 6, 7
+# Driver::Call's choice (in_.Int(9))
+CREATE_RIGID, CREATE_OBSTACLE, CREATE_NODAL, MOVE_OBSTACLE, KICK, STEP, CREATE_ARM = 0, 1, 3, 4, 6, 7, 8
+REVOLUTE, PRISMATIC = 0, 1
 PLANE, SPHERE, BOX, CAPSULE = 0, 1, 2, 3
 
 
@@ -62,6 +64,13 @@ def seeds():
     rod = [CREATE_NODAL] + place(3, 4, 5) + size(2) + [0, 5] + [0] * 7 + [1, 1, 0]
     cube = [CREATE_NODAL] + place(6, 2, 5) + size(4) + [1, 1, 1, 1]
     yield "rod_and_cube", params + ground() + rod + cube + step() * 20
+    # a two-link arm: a carriage sliding along y from 0.4 m up, a link
+    # hanging on a revolute joint, a capsule on that link: it falls and
+    # lands on the ground
+    carriage = [PRISMATIC, 0, 0, 1, 0] + place(5, 4, 5) + [1]  # axis (0, 1, 0), at (0, 0.4, 0), default mass
+    hanging = [REVOLUTE, 1] + size(4) + [1]           # axis z, 0.1 m below
+    capsule = shape(CAPSULE, False, half=1, radius=0) + [1, 1]  # on link 1
+    yield "arm_capsule", params + ground() + [CREATE_ARM, 1] + carriage + hanging + capsule + step() * 20
 
 
 def main():

@@ -3,6 +3,7 @@
 // factorization, solve, line search, commit) makes no heap allocation from
 // SuperDex's own code (malloc or operator new; allocations inside CHOLMOD,
 // libgomp and OpenBLAS are theirs — docs/linear_solvers.md).
+#include "contact/contact_scenes.h"
 #include "test_scenes.h"
 
 #include "allocation_recorder.h"
@@ -317,4 +318,31 @@ TEST_CASE("steps with single-body constraints folded into the tree allocate noth
   StepOk(*scene, 1e-2, 2);
   REQUIRE(actor->IsSolvedOnTree());
   RequireStepsAllocateNothing(*scene, 1e-2, 10);
+}
+
+TEST_CASE("contact steps allocate nothing once the contacts are set up", "[scene][allocation][contact]") {
+  // a rigid box resting on the ground, a second box on it (body–body), a
+  // tet cube beside them with its Surface (self contact on), each with
+  // friction: per stage the candidate pairs, their contributors' DoF lists,
+  // the bodies' trees and the friction anchors reuse their storage, and the
+  // Newton iterations (assembly, safe step, energy) allocate nothing
+  SceneParams params;
+  params.gravity = Real3(0, -9.81, 0);
+  auto scene = MakeScene(params);
+  real const dhat = params.contact.activationDistance;
+  MakeGround(*scene);
+  MakeRigidBox(*scene, Real3(0, 0.1 + 0.5 * dhat, 0), Quat::Identity(), Real3::Constant(0.1), 1);
+  MakeRigidBox(*scene, Real3(0, 0.3 + 1.5 * dhat, 0), Quat::Identity(), Real3::Constant(0.1), 1);
+  TetMesh mesh;
+  Error error;
+  REQUIRE(MakeTetBox(Real3(0.3, 0.5 * dhat, 0), Real3::Constant(0.1), {2, 2, 2}, mesh, error));
+  DeformableActorParams cube;
+  cube.nodes = mesh.nodes;
+  cube.tetrahedra = mesh.tetrahedra;
+  cube.youngModulus = 1e6;
+  DeformableActor* soft = MakeDeformable(*scene, cube);
+  MakeSurface(*scene, *soft);
+  StepOk(*scene, 1.0 / 60, 10);
+  REQUIRE(scene->GetStats().activeContacts > 8);
+  RequireStepsAllocateNothing(*scene, 1.0 / 60, 20);
 }

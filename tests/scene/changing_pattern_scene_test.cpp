@@ -28,10 +28,10 @@ class SpringPairs final : public internal::StageTerm {
         {{0, 6}}, {{0, 6}, {2, 8}}, {{2, 8}}, {{4, 10}, {0, 6}}};
     pairs_ = kSchedule[stage_++ % kSchedule.size()];
   }
-  void AppendStageContributorDofs(DynamicArray<DynamicArray<int>>& dofLists) const override {
+  void AppendStageContributorDofs(internal::StageDofLists& dofLists) const override {
     for (auto [a, b] : pairs_) {
       int const oa = bodies_[a]->GetDofOffset(), ob = bodies_[b]->GetDofOffset();
-      dofLists.push_back({oa, oa + 1, oa + 2, ob, ob + 1, ob + 2});
+      dofLists.Add() = {oa, oa + 1, oa + 2, ob, ob + 1, ob + 2};
     }
   }
   void AddEnergy(internal::HessianAssembler const&, int, internal::EnergySum& sum) const override {
