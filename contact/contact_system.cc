@@ -345,6 +345,27 @@ bool ContactSystem::SetPrimitives(Collider& c, DynamicArray<std::array<int, 3>> 
   }
   for (int i = 0; i < n; ++i)
     if (c.freeVertex_[i] && c.nodal_ == nullptr) c.vertexArea_[i] = M_PI * c.thickness_ * c.thickness_;
+  // every primitive's weight a normal number: a pair of weight 0 exerts no
+  // barrier (a Capsule 1e-323 m long, its length squared underflowing, was
+  // invisible to contact and passed through another)
+  auto tooSmall = [&](std::string const& primitive, real weight) {
+    char const* fields = c.shape_ == ShapeType::Sphere    ? "radius"
+                         : c.shape_ == ShapeType::Capsule ? "radius, halfLength"
+                         : c.shape_ == ShapeType::Box     ? "halfExtents, thickness"
+                         : c.shape_ == ShapeType::Surface ? "the actor's nodes, thickness"
+                                                          : "vertices, thickness";
+    error.Set(ErrorCode::InvalidArgument, std::string(fields) + ": the " + std::string(ToString(c.shape_)) +
+                                              " is too small to touch anything: the area its " + primitive +
+                                              " stands for is " + Format(weight) +
+                                              " m^2, below the smallest normal double");
+    return false;
+  };
+  for (std::size_t e = 0; e < c.edges_.size(); ++e)
+    if (!std::isnormal(c.edgeArea_[e])) return tooSmall("edge " + std::to_string(e), c.edgeArea_[e]);
+  for (int i = 0; i < n; ++i) {
+    bool const used = !c.freeVertex_[i] || c.nodal_ == nullptr;  // on a primitive, or a point
+    if (used && !std::isnormal(c.vertexArea_[i])) return tooSmall("vertex " + std::to_string(i), c.vertexArea_[i]);
+  }
   return true;
 }
 

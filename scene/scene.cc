@@ -273,7 +273,6 @@ Collider* Scene::CreateCollider(ColliderParams const& params, Error& error) {
 
 // ---- constraints ----
 
-
 Constraint* Scene::AddConstraint(std::unique_ptr<Constraint> constraint) {
   if (!constraint) return nullptr;  // refused by the type's Create (error set)
   Constraint* raw = constraint.get();
@@ -282,22 +281,6 @@ Constraint* Scene::AddConstraint(std::unique_ptr<Constraint> constraint) {
   OnTopologyChanged();
   return raw;
 }
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 
 #define SUPERDEX_CONSTRAINT_FACTORY(Name, Class, file)                                               \
   Constraint* Scene::Create##Name##Constraint(Name##ConstraintParams const& params, Error& error) { \

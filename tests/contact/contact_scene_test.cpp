@@ -233,6 +233,23 @@ TEST_CASE("colliders are validated and a bad one changes nothing", "[contact][er
   plane.normal = Real3::Zero();
   CHECK_FALSE(scene->CreateCollider(plane, error));
   CHECK(Mentions(error, "normal"));
+  // shapes too small to touch anything (a primitive's area weight not a
+  // normal double): a capsule 1e-323 m long was invisible to contact, and
+  // two of them at one place passed the creation check and a step
+  ColliderParams tiny;
+  tiny.shape = ShapeType::Capsule;
+  tiny.radius = 0.16;
+  tiny.halfLength = 5e-324;
+  CHECK_FALSE(scene->CreateCollider(tiny, error));
+  CHECK(error.GetCode() == ErrorCode::InvalidArgument);
+  CHECK(Mentions(error, "halfLength"));
+  CHECK(Mentions(error, "too small to touch anything"));
+  tiny.shape = ShapeType::Sphere;
+  tiny.radius = 1e-200;
+  CHECK_FALSE(scene->CreateCollider(tiny, error));
+  CHECK(Mentions(error, "radius"));
+  tiny.radius = 1e-150;  // π r² = 3e-300: a normal double
+  CHECK(MakeScene()->CreateCollider(tiny, error));
   // geometry beyond the contact range (kMaxContactCoordinate = 1e9 m): a
   // capsule 1e300 m long made every distance to it NaN
   ColliderParams capsule;
