@@ -1278,7 +1278,9 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
         LinkPath const& path = c.path_;
         int const dofs = c.NumFrameDofs();
         auto const turn = path.jacobian.bottomRows<3>();
-        Hq.block(f, f, dofs, dofs).noalias() += turn.transpose() * curvature[side] * turn;
+        // (C Bθ first, into fixed-capacity storage: no temporary on the heap)
+        Eigen::Matrix<real, 3, Eigen::Dynamic, 0, 3, kMaxLinkPathDofs> const turned = curvature[side] * turn;
+        Hq.block(f, f, dofs, dofs).noalias() += turn.transpose() * turned;
         for (int i = 0; i < dofs; ++i)
           for (int j = i; j < dofs; ++j) {
             real const value = path.Curvature(i, j, wrenchForce[side], wrenchMoment[side]);

@@ -346,3 +346,29 @@ TEST_CASE("contact steps allocate nothing once the contacts are set up", "[scene
   REQUIRE(scene->GetStats().activeContacts > 8);
   RequireStepsAllocateNothing(*scene, 1.0 / 60, 20);
 }
+
+TEST_CASE("link contact steps allocate nothing once the contacts are set up", "[scene][allocation][contact]") {
+  // scene 8: the 5-link arm's capsules pushing a box (the link frames, the
+  // path Jacobians and curvature, CCD along forward kinematics)
+  SceneParams params;
+  params.gravity = Real3(0, -9.81, 0);
+  params.newton.hessianProjection = HessianProjection::WhenIndefinite;
+  auto scene = MakeScene(params);
+  ArmPush const push = MakeArmPush(*scene);
+  Error error;
+  real const dt = 1.0 / 60;
+  for (int s = 0; s < 40; ++s) {
+    REQUIRE(push.carriage->SetTargetDof(push.start + push.speed * s * dt, error));
+    REQUIRE(scene->Step(dt, error));
+  }
+  REQUIRE(scene->GetStats().activeContacts > 4);  // the box on the ground and the capsule on the box
+  int const during = CountAllocations([&] {
+                       for (int s = 40; s < 60; ++s) {
+                         (void)push.carriage->SetTargetDof(push.start + push.speed * s * dt, error);
+                         if (!scene->Step(dt, error)) break;
+                       }
+                     }).superdex;
+  INFO(error.ToString());
+  REQUIRE_FALSE(error);
+  REQUIRE(during == 0);
+}
