@@ -8,6 +8,7 @@
 #include "test_scenes.h"
 
 #include <cmath>
+#include <random>
 
 #include <superdex/contact/distance.h>
 #include <superdex/solver/newton_solver.h>
@@ -633,4 +634,42 @@ TEST_CASE("a failed step leaves a kinematic obstacle where it was, its target pe
   // and a step without a new target leaves it there
   REQUIRE(p.scene->Step(1.0 / 60, error));
   CHECK(p.paddle->GetPosition() == target);
+}
+
+TEST_CASE("the exact check's point-triangle distance: the library's on random triangles, finite on a sliver",
+          "[contact][check]") {
+  // the independent check (tests/contact/intersection.h) against the
+  // library's classified distance: they agree to 1e-12 of the O(1) scale on
+  // random triangles and points near them
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<real> unit(-1, 1);
+  auto random = [&] { return Real3(unit(rng), unit(rng), unit(rng)); };
+  for (int k = 0; k < 2000; ++k) {
+    Real3 const a = random(), b = random(), c = random(), p = random();
+    auto const type = contact::PointTriangleDistanceType(p, a, b, c);
+    real const library = std::sqrt(contact::PointTriangleDistance2(p, a, b, c, type));
+    CAPTURE(k);
+    REQUIRE(InterpenetrationCheck::PointTriangleDistance(p, a, b, c) == Approx(library).margin(1e-12));
+  }
+  // a Box face of edges ~1e9 m and 0.3 m passing 0.02 m from the point
+  // (fuzz_contact, tests/fuzz/corpus/contact/nan_gap_body_inside_huge_box.bin):
+  // Ericson's barycentric differences of ~1e18 cancelled to 0/0 there
+  Real3 const p(0.1, 0.48450156249999998, -0.20000000000000001);
+  Real3 const a(-2216160.9397460758, 798001470.76195347, 602651424.96314514);
+  Real3 const b(2216160.8934969711, -798001471.81688321, -602651425.69425714);
+  Real3 const c(2216161.0162475649, -798001471.9947623, -602651425.45826709);
+  real const check = InterpenetrationCheck::PointTriangleDistance(p, a, b, c);
+  REQUIRE(std::isfinite(check));
+  // the distance to the triangle's plane (in long double) bounds it from
+  // below, an edge's distance from above
+  using Long3 = Eigen::Matrix<long double, 3, 1>;
+  Long3 const la = a.cast<long double>(), lb = b.cast<long double>(), lc = c.cast<long double>();
+  Long3 const normal = (lc - lb).cross(la - lb).normalized();
+  real const toPlane = static_cast<real>(std::abs(normal.dot(p.cast<long double>() - lb)));
+  CHECK(check <= InterpenetrationCheck::PointSegmentDistance(p, b, c));
+  CHECK(check >= toPlane - 1e-6);  // round-off of coordinates ~1e9 m: ~1e-7 m
+  std::printf("sliver: check %.9g m, plane %.9g m\n", check, toPlane);
+  // the library's distance of the same pair is finite too
+  auto const type = contact::PointTriangleDistanceType(p, a, b, c);
+  CHECK(std::isfinite(contact::PointTriangleDistance2(p, a, b, c, type)));
 }
