@@ -157,15 +157,7 @@ void ConstraintKernel::AddCurvature(Span<real const> target, Eigen::Ref<VectorX 
     }
     Eigen::Matrix<real, 6, 1> wrench = Eigen::Matrix<real, 6, 1>::Zero();
     for (int local : typeDofs_[a]) wrench[local] = typeJacobian.col(typeColumn++).dot(weights);
-    Real3 const force = wrench.head<3>(), moment = wrench.tail<3>();
-    LinkPath const& path = paths_[a];
-    for (int i = 0; i < size; ++i) {
-      for (int j = i; j < size; ++j) {
-        real const value = path.Curvature(i, j, force, moment);
-        hessian(columns[i], columns[j]) += value;
-        if (j != i) hessian(columns[j], columns[i]) += value;
-      }
-    }
+    paths_[a].AddCurvature(wrench.head<3>(), wrench.tail<3>(), [&](int i) { return columns[i]; }, hessian);
   }
 }
 

@@ -1281,12 +1281,7 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
         // (C Bθ first, into fixed-capacity storage: no temporary on the heap)
         Eigen::Matrix<real, 3, Eigen::Dynamic, 0, 3, kMaxLinkPathDofs> const turned = curvature[side] * turn;
         Hq.block(f, f, dofs, dofs).noalias() += turn.transpose() * turned;
-        for (int i = 0; i < dofs; ++i)
-          for (int j = i; j < dofs; ++j) {
-            real const value = path.Curvature(i, j, wrenchForce[side], wrenchMoment[side]);
-            Hq(f + i, f + j) += value;
-            if (j != i) Hq(f + j, f + i) += value;
-          }
+        path.AddCurvature(wrenchForce[side], wrenchMoment[side], [f](int i) { return f + i; }, Hq);
       }
     int const contributor = options.firstStageContributor + static_cast<int>(p);
     assembler.AddDynamicGradient(contributor, gq);

@@ -40,6 +40,19 @@ struct LinkPath {
     return sameJoint ? 0.5 * force.dot(wi.cross(uj) + wj.cross(ui))
                      : force.dot(wi.cross(uj)) + 0.5 * moment.dot(wi.cross(wj));
   }
+
+  /// Adds Curvature(i, j, force, moment) of every two path DoFs i, j to
+  /// `hessian` at (column(i), column(j)) and its mirror.
+  template <class Column, class Matrix>
+  void AddCurvature(Real3 const& force, Real3 const& moment, Column const& column, Matrix&& hessian) const {
+    int const size = static_cast<int>(dofs.size());
+    for (int i = 0; i < size; ++i)
+      for (int j = i; j < size; ++j) {
+        real const value = Curvature(i, j, force, moment);
+        hessian(column(i), column(j)) += value;
+        if (j != i) hessian(column(j), column(i)) += value;
+      }
+  }
 };
 
 }  // namespace superdex::internal
