@@ -1046,8 +1046,7 @@ void ContactSystem::LagFriction(Pair& pair) const {
   pair.slip0 = found ? Real3(pair.basis * (pair.basis.transpose() * it->second)) : Real3::Zero();
 }
 namespace {
-/// The barrier of a pair of n coordinates, Hessian projected to PSD, in the
-/// first n of 12 coordinates.
+/// The barrier of a pair of n coordinates in the first n of 12 coordinates.
 template <int n>
 contact::ValueGradientHessian<12> Embedded(contact::ValueGradientHessian<n> const& e) {
   contact::ValueGradientHessian<12> r;
@@ -1058,8 +1057,10 @@ contact::ValueGradientHessian<12> Embedded(contact::ValueGradientHessian<n> cons
 }
 }  // namespace
 
-contact::ValueGradientHessian<12> ContactSystem::PairBarrier(Pair const& pair, bool derivatives) const {
+contact::ValueGradientHessian<12> ContactSystem::PairBarrier(Pair const& pair, bool derivatives,
+                                                             bool projected) const {
   using contact::BarrierHessian;
+  BarrierHessian const form = projected ? BarrierHessian::Projected : BarrierHessian::Exact;
   contact::ValueGradientHessian<12> e;
   real const dhat = params_.activationDistance;
   real const kw = params_.stiffness * pair.weight;
@@ -1089,25 +1090,24 @@ contact::ValueGradientHessian<12> ContactSystem::PairBarrier(Pair const& pair, b
       case PairKind::PointTriangle: {
         auto const type = contact::PointTriangleDistanceType(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
         e = contact::BarrierEnergy<12>(
-            contact::PointTriangleDistance2Derivatives(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type), barrier,
-            BarrierHessian::Projected);
+            contact::PointTriangleDistance2Derivatives(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type), barrier, form);
         break;
       }
       case PairKind::EdgeEdge: {
-        // the barrier times IPC's mollifier of nearly parallel edges, projected
+        // the barrier times IPC's mollifier of nearly parallel edges
         auto const type = contact::EdgeEdgeDistanceType(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
         auto const b = contact::BarrierEnergy<12>(
             contact::EdgeEdgeDistance2Derivatives(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type), barrier,
             BarrierHessian::Exact);
         e = contact::Multiply(
             contact::EdgeEdgeMollifierDerivatives(x[v[0]], x[v[1]], x[v[2]], x[v[3]], pair.mollifierThreshold), b);
-        e.hessian = contact::ProjectToPsd<12>(e.hessian);
+        if (projected) e.hessian = contact::ProjectToPsd<12>(e.hessian);
         break;
       }
       case PairKind::PointEdge: {
         auto const type = contact::PointEdgeDistanceType(x[v[0]], x[v[1]], x[v[2]]);
         e = Embedded<9>(contact::BarrierEnergy<9>(contact::PointEdgeDistance2Derivatives(x[v[0]], x[v[1]], x[v[2]], type),
-                                                  barrier, BarrierHessian::Projected));
+                                                  barrier, form));
         break;
       }
       case PairKind::PointPoint: {
@@ -1115,7 +1115,7 @@ contact::ValueGradientHessian<12> ContactSystem::PairBarrier(Pair const& pair, b
         q.value = contact::PointPointDistance2(x[v[0]], x[v[1]]);
         q.gradient = contact::PointPointDistance2Gradient(x[v[0]], x[v[1]]);
         q.hessian = contact::PointPointDistance2Hessian(x[v[0]], x[v[1]]);
-        e = Embedded<6>(contact::BarrierEnergy<6>(q, barrier, BarrierHessian::Projected));
+        e = Embedded<6>(contact::BarrierEnergy<6>(q, barrier, form));
         break;
       }
     }
@@ -1182,7 +1182,7 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
   using SlipJacobian = Eigen::Matrix<real, 3, Eigen::Dynamic, 0, 3, kMaxDofs>;
   for (std::size_t p = 0; p < pairs_.size(); ++p) {
     Pair const& pair = pairs_[p];
-    contact::ValueGradientHessian<12> const e = PairBarrier(pair, true);
+    contact::ValueGradientHessian<12> const e = PairBarrier(pair, true, options.projectHessian);
     int const n = 3 * pair.numVertices;
     if (e.gradient.head(n).isZero(0) && pair.lambda <= 0) continue;
     contact::TangentialFriction const friction = PairFriction(pair, x_);
@@ -1242,7 +1242,7 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
     }
     Real3 const force = pair.basis * friction.gradient;
     Real33 const stiffness = pair.basis * friction.hessian * pair.basis.transpose();
-    // the projected barrier and the friction (PSD by construction): PSD
+    // the barrier (projected: PSD) and the friction (PSD by construction)
     DofVector gq = J.topRows(n).transpose() * e.gradient.head(n) + Jf.transpose() * force;
     // an obstacle on its way to its stage target: the barrier's gradient
     // after the rest of that way, to first order (H Δo over its vertices; a

@@ -315,8 +315,9 @@ class ContactSystem final : public StageTerm {
   /// The slip from the pair's anchor at positions x (world, not projected).
   Real3 Slip(Pair const& pair, DynamicArray<Real3> const& x) const;
   /// The barrier energy of the pair at x_ and, with `derivatives`, its
-  /// gradient and (PSD) Hessian w.r.t. the pair's vertex positions.
-  contact::ValueGradientHessian<12> PairBarrier(Pair const& pair, bool derivatives) const;
+  /// gradient and Hessian w.r.t. the pair's vertex positions: exact, or
+  /// with `projected` its negative eigenvalues clamped to 0 (PSD).
+  contact::ValueGradientHessian<12> PairBarrier(Pair const& pair, bool derivatives, bool projected = true) const;
   /// The friction energy at positions x, its gradient and Hessian in the
   /// tangential slip u (zero without a lagged normal force).
   contact::TangentialFriction PairFriction(Pair const& pair, DynamicArray<Real3> const& x) const;
