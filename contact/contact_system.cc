@@ -445,6 +445,7 @@ void ContactSystem::PrepareVertices() {
   displacement_.resize(numVertices);
   UpdatePositions(x_);
   x0_ = x_;
+  boundCenter_ = x_;
 }
 
 void ContactSystem::RemoveActor(ActorHandle actor) {
@@ -1407,13 +1408,13 @@ real ContactSystem::SelfSafeStep(int c, real alpha) const {
   int const first = firstVertex_[c], count = firstVertex_[c + 1] - first;
   Real3 moved = Real3::Zero(), step = Real3::Zero();
   for (int i = first; i < first + count; ++i) {
-    moved += (x_[i] - x0_[i]) / count;
+    moved += (x_[i] - boundCenter_[i]) / count;
     step += displacement_[i] / count;
   }
   for (int i = first; i < first + count; ++i) {
     real const rate = (displacement_[i] - step).norm();
     if (rate == 0) continue;
-    real const room = selfBound_[c] - (x_[i] - x0_[i] - moved).norm();
+    real const room = selfBound_[c] - (x_[i] - boundCenter_[i] - moved).norm();
     alpha = std::min(alpha, std::max(room, real(0)) / rate);
   }
   return alpha;
@@ -1455,7 +1456,7 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
     for (int i = firstVertex_[c]; i < firstVertex_[c + 1] && colliders_[c]->Moves(); ++i) {
     real const step = displacement_[i].norm();
     if (step == 0) continue;
-    real const room = bound_[i] - (x_[i] - x0_[i]).norm();
+    real const room = bound_[i] - (x_[i] - boundCenter_[i]).norm();
     safe = std::min(safe, std::max(room, real(0)) / step);
     }
   // the self-contact bound: each vertex's displacement relative to its
@@ -1467,6 +1468,50 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
     safe = colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid() ? RigidPairCcd(pair, delta, safe)
                                                                              : safe * LinearPairCcd(pair, x_, safe);
   return safe;
+}
+
+bool ContactSystem::RecenterStepBounds() {
+  UpdatePositions(x_);
+  constexpr real kUsed = 0.9;  // of a bound, before the region is found again
+  bool nearEdge = false;
+  for (std::size_t c = 0; c < colliders_.size() && !nearEdge; ++c) {
+    if (!colliders_[c]->Moves()) continue;
+    int const first = firstVertex_[c], count = firstVertex_[c + 1] - first;
+    Real3 moved = Real3::Zero();
+    for (int i = first; i < first + count; ++i) {
+      nearEdge = nearEdge || (x_[i] - boundCenter_[i]).norm() > kUsed * bound_[i];
+      moved += (x_[i] - boundCenter_[i]) / count;
+    }
+    if (selfBound_[c] > 0)
+      for (int i = first; i < first + count; ++i)
+        nearEdge = nearEdge || (x_[i] - boundCenter_[i] - moved).norm() > kUsed * selfBound_[c];
+  }
+  if (!nearEdge) return false;
+  boundCenter_ = x_;
+  // the pairs again, each one found before keeping its stage-start data
+  keptPairs_.swap(pairs_);
+  keptKeys_.clear();
+  for (int p = 0; p < static_cast<int>(keptPairs_.size()); ++p) keptKeys_.emplace_back(keptPairs_[p].key, p);
+  std::sort(keptKeys_.begin(), keptKeys_.end());
+  ++treeStamp_;
+  pairs_.clear();
+  for (int a = 0; a < static_cast<int>(colliders_.size()); ++a)
+    for (int b = 0; b < static_cast<int>(colliders_.size()); ++b)
+      if (MayTouch(a, b)) AddPairs(a, b);
+  keptFound_.assign(keptPairs_.size(), 0);
+  for (Pair& pair : pairs_) {
+    auto const it = std::lower_bound(keptKeys_.begin(), keptKeys_.end(), std::make_pair(pair.key, -1));
+    if (it != keptKeys_.end() && it->first == pair.key) {
+      pair = keptPairs_[it->second];
+      keptFound_[it->second] = 1;
+    } else {
+      LagFriction(pair);  // beyond d̂ at the stage start: no normal force
+    }
+  }
+  // a pair out of reach now keeps its friction (its barrier is zero)
+  for (std::size_t p = 0; p < keptPairs_.size(); ++p)
+    if (!keptFound_[p] && keptPairs_[p].lambda > 0) pairs_.push_back(keptPairs_[p]);
+  return true;
 }
 
 bool ContactSystem::AcceptsFirstIterate() const {

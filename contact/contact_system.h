@@ -229,6 +229,15 @@ class ContactSystem final : public StageTerm {
                              AssemblyOptions const& options) const override;
   bool BoundsSteps() const override { return !colliders_.empty(); }
   real LargestSafeStep(Span<real const> delta, real alpha) const override;
+  /// Once a vertex has used 90 % of its displacement bound (or of its self
+  /// bound, relative to its body's mean): the candidate pairs found again
+  /// with the same bounds around the current iterate (pairs kept keep their
+  /// lagged friction, and one out of reach with a normal force stays for
+  /// its friction; a new pair is beyond d̂, its barrier zero). Without
+  /// it Newton stalls at the bound's edge when the stage's motion outruns
+  /// the bound (a cloth landing edge first: the landed edge stops while the
+  /// rest falls on).
+  bool RecenterStepBounds() override;
   bool AcceptsFirstIterate() const override;
   bool AtTarget() const override { return progress_ >= 1; }
   bool AdvanceTarget(real fraction) override;
@@ -343,6 +352,12 @@ class ContactSystem final : public StageTerm {
   DynamicArray<int> firstVertex_;        ///< every collider's vertices, concatenated
   mutable DynamicArray<Real3> x_;        ///< current positions (refreshed per evaluation)
   DynamicArray<Real3> x0_;               ///< stage start
+  /// Where the bounds are centred: the stage start, or the iterate of the
+  /// last RecenterStepBounds
+  DynamicArray<Real3> boundCenter_;
+  DynamicArray<Pair> keptPairs_;  ///< RecenterStepBounds' previous pairs (storage kept)
+  DynamicArray<std::pair<std::uint64_t, int>> keptKeys_;  ///< their keys, sorted, and indices
+  DynamicArray<char> keptFound_;  ///< per kept pair: found again
   DynamicArray<real> bound_;             ///< per vertex displacement bound for the stage [m]
   DynamicArray<real> selfBound_;         ///< per collider: bound relative to its mean (self contact) [m]
   ObstacleTrees selfTrees_;

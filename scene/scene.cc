@@ -400,6 +400,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.singlePrecisionSolves = 0;
   stats_.nearRigidConstraints = 0;
   stats_.stageContributors = 0;
+  stats_.contactRecenterings = 0;
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.orderingSeconds = stats_.patternSeconds = stats_.slotTableSeconds = stats_.symbolicSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;

@@ -212,6 +212,13 @@ bool NewtonSolver::Solve(int stageIndex, StageContext stage, NewtonParams const&
       problem_.EndStage();
       return true;
     }
+    // an iterate near the edge of the region the stage's contributors
+    // cover: found again around it (the pattern may grow)
+    if (problem_.BoundsSteps() && problem_.RecenterStepBounds()) {
+      ++stats.contactRecenterings;
+      if (!SetStageContributors(stats, error) || !linear_.Prepare(problem_, stats, error)) return false;
+      energy = convergence_.Energy();  // the same Eᵢ, its terms summed in their new order
+    }
   }
   std::string truncation;
   if (!problem_.AtTargets())

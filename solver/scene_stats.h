@@ -92,6 +92,10 @@ struct SceneStats {
   /// Pattern rebuilds (orderings and growths in the kept order) that the
   /// stages' changing contributors (contact pairs) caused, since creation.
   std::int64_t contactPatternBuilds = 0;
+  /// In the last step: the candidate pairs found again within a stage
+  /// because an iterate came near the edge of the stage's displacement
+  /// bound (docs/contact.md, "The candidates").
+  int contactRecenterings = 0;
   // time of each phase of the last step [s]
   double analysisSeconds = 0;        ///< pattern build + symbolic analysis
   // ... analysisSeconds split: the block graph and its ordering (METIS), the

@@ -90,6 +90,13 @@ bool StageProblem::IsStateFinite() const {
   return finite;
 }
 
+bool StageProblem::RecenterStepBounds() {
+  bool recentered = false;
+  for (StageTerm* term : terms_)
+    if (term->BoundsSteps()) recentered = term->RecenterStepBounds() || recentered;
+  return recentered;
+}
+
 real StageProblem::LargestSafeStep(Span<real const> delta, real alpha) const {
   for (StageTerm const* term : terms_)
     if (term->BoundsSteps()) alpha = std::min(alpha, term->LargestSafeStep(delta, alpha));

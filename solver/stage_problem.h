@@ -56,6 +56,9 @@ class StageProblem {
   /// The safe-step hook over the terms that bound steps: the largest
   /// α' <= alpha that none refuses, from the current configuration.
   real LargestSafeStep(Span<real const> delta, real alpha) const;
+  /// StageTerm::RecenterStepBounds of every term that bounds steps: whether
+  /// one found its region again (the stage contributors may have changed).
+  bool RecenterStepBounds();
   void AcceptStep(AcceptedStep const& step);
   /// Whether every term is at its stage target (StageTerm::AtTarget).
   bool AtTargets() const;

@@ -169,6 +169,15 @@ class StageTerm {
   /// valid. When a term refuses, every DoF owner starts the stage from the
   /// stage start instead (an inertial prediction through an obstacle).
   virtual bool AcceptsFirstIterate() const { return true; }
+  /// For a term that bounds steps by a region found at the stage start (the
+  /// contact candidates within each vertex's displacement bound): after an
+  /// accepted Newton step, when the iterate has come near that region's edge,
+  /// the region is found again around the current iterate and true is
+  /// returned: its stage contributors may have changed (the solver sets them
+  /// again). Each term it keeps stays the same function of the DoFs, and a
+  /// term it adds is zero at the current iterate, so Eᵢ does not change.
+  /// The default: never.
+  virtual bool RecenterStepBounds() { return false; }
   /// A term with a target of its own within the stage (a kinematic
   /// obstacle's pose at the stage end): whether it is there. Newton
   /// converges only where every term is. While a term is short of its

@@ -41,6 +41,7 @@ def test_a_box_falls_and_rests_on_the_ground():
     assert stats.active_contacts >= 4
     assert 0 < stats.min_contact_distance < 1e-3
     assert stats.contact_pattern_builds == 0  # obstacle contacts fit the analysed pattern
+    assert stats.contact_recenterings == 0  # a box at rest stays well within its bounds
     assert stats.pattern_builds == 1
     contacts = scene.get_contacts()
     assert len(contacts) == stats.active_contacts

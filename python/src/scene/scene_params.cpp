@@ -163,6 +163,8 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("min_contact_distance", &T::minContactDistance, "smallest contact gap [m] (inf: none)")
       .def_readonly("contact_pattern_builds", &T::contactPatternBuilds,
                     "pattern rebuilds the contact pairs caused, since creation")
+      .def_readonly("contact_recenterings", &T::contactRecenterings,
+                    "candidate searches again within the last step's stages (an iterate near its bound)")
       .def_readonly("analysis_seconds", &T::analysisSeconds,
                     "pattern build + symbolic analysis [s]")
       .def_readonly("ordering_seconds", &T::orderingSeconds,
