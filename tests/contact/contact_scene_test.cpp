@@ -689,7 +689,7 @@ TEST_CASE("a cloth landing edge first outruns its stage's self bound: the candid
   ContactScene scene = ClothFoldScene(params, 12);
   InterpenetrationCheck check(params.contact.activationDistance);
   int recentered = 0;
-  for (int s = 0; s < 6; ++s) {
+  for (int s = 0; s < 2; ++s) {  // the landing is the second step
     Error error;
     bool const stepped = scene.scene->Step(1.0 / 30, error);
     INFO("step " << s << ": " << error.ToString());
