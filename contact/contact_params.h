@@ -19,8 +19,11 @@ namespace superdex {
 struct ContactParams {
   /// d̂ [m], > 0: primitives closer than this repel each other.
   real activationDistance = 1e-3;
-  /// κ [Pa], > 0: the barrier's pressure scale.
-  real stiffness = 1e6;
+  /// κ [Pa], > 0: the barrier's pressure scale. A pressure p rests at
+  /// s ≈ 1 − √(p/3κ) of d̂ (1 kPa at 0.82 d̂); a stiffer κ against a light
+  /// body's inertia costs Newton iterations where contacts form
+  /// (docs/contact.md, "Why 1e4 Pa").
+  real stiffness = 1e4;
   /// ḡ [m], > 0: the tangential slip over which friction ramps up to μλ;
   /// a contact that slips less sticks to its anchor.
   real frictionRampWidth = 1e-4;

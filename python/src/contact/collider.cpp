@@ -24,7 +24,7 @@ void DefineContact(py::module_& m) {
                  "Contact between colliders: the barrier's activation distance and stiffness, the "
                  "friction ramp's width (docs/contact.md).")
       .Field("activation_distance", &P::activationDistance, "d̂ [m] > 0, default 1e-3")
-      .Field("stiffness", &P::stiffness, "κ [Pa] > 0: the barrier's pressure scale, default 1e6")
+      .Field("stiffness", &P::stiffness, "κ [Pa] > 0: the barrier's pressure scale, default 1e4")
       .Field("friction_ramp_width", &P::frictionRampWidth,
              "ḡ [m] > 0: the slip over which friction ramps up to μλ, default 1e-4")
       .Field("ccd_max_iterations", &P::ccdMaxIterations,
