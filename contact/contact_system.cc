@@ -711,10 +711,7 @@ void ContactSystem::BeginStage(StageContext const& stage) {
     selfBound_[c] = std::max(spread, 0.5 * fastest) * h + params_.activationDistance;
   }
   ++treeStamp_;
-  pairs_.clear();
-  for (int a = 0; a < static_cast<int>(colliders_.size()); ++a)
-    for (int b = 0; b < static_cast<int>(colliders_.size()); ++b)
-      if (MayTouch(a, b)) AddPairs(a, b);
+  FindPairs();
   for (Pair& pair : pairs_) LagFriction(pair);
 }
 
@@ -809,6 +806,13 @@ ContactSystem::ObstacleTrees const& ContactSystem::SelfTrees(int index) {
   for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) boxes.push_back(BoxOf(x_, {f + i}, margin));
   selfTrees_.vertices.Build(boxes, ignored);
   return selfTrees_;
+}
+
+void ContactSystem::FindPairs() {
+  pairs_.clear();
+  for (int a = 0; a < static_cast<int>(colliders_.size()); ++a)
+    for (int b = 0; b < static_cast<int>(colliders_.size()); ++b)
+      if (MayTouch(a, b)) AddPairs(a, b);
 }
 
 void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
@@ -1499,10 +1503,7 @@ bool ContactSystem::RecenterStepBounds() {
   for (int p = 0; p < static_cast<int>(keptPairs_.size()); ++p) keptKeys_.emplace_back(keptPairs_[p].key, p);
   std::sort(keptKeys_.begin(), keptKeys_.end());
   ++treeStamp_;
-  pairs_.clear();
-  for (int a = 0; a < static_cast<int>(colliders_.size()); ++a)
-    for (int b = 0; b < static_cast<int>(colliders_.size()); ++b)
-      if (MayTouch(a, b)) AddPairs(a, b);
+  FindPairs();
   keptFound_.assign(keptPairs_.size(), 0);
   for (Pair& pair : pairs_) {
     auto const it = std::lower_bound(keptKeys_.begin(), keptKeys_.end(), std::make_pair(pair.key, -1));

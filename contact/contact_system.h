@@ -286,6 +286,8 @@ class ContactSystem final : public StageTerm {
   /// a is a body, b an obstacle or a later body of another actor, and their
   /// groups and masks let them touch.
   bool MayTouch(int a, int b) const;
+  /// pairs_: every candidate pair of primitives at x_ within the bounds.
+  void FindPairs();
   /// Vertex numbering and positions (x_ = x0_) of the current colliders.
   void PrepareVertices();
   friend class superdex::Collider;
