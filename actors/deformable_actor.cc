@@ -35,6 +35,11 @@ std::unique_ptr<DeformableActor> DeformableActor::Create(DeformableActorParams c
                                               std::to_string(static_cast<int>(params.material)) + ")");
     return nullptr;
   }
+  if (params.membrane != MembraneModel::StVK && params.membrane != MembraneModel::TensionField) {
+    error.Set(ErrorCode::InvalidArgument, "DeformableActorParams.membrane is not a MembraneModel (" +
+                                              std::to_string(static_cast<int>(params.membrane)) + ")");
+    return nullptr;
+  }
   if (params.tetrahedra.empty() && params.triangles.empty()) {
     error.Set(ErrorCode::InvalidArgument,
               "DeformableActorParams needs at least one tetrahedron or triangle, got none");
@@ -72,6 +77,7 @@ std::unique_ptr<DeformableActor> DeformableActor::Create(DeformableActorParams c
   a.transformPosition_ = params.position;
   a.transformRotation_ = params.rotation.normalized();
   a.material_ = params.material;
+  a.membrane_ = params.membrane;
   a.lame_ = LameFromYoungPoisson(params.youngModulus, params.poissonRatio);
   a.lambdaPlaneStress_ = 2 * a.lame_.mu * a.lame_.lambda / (a.lame_.lambda + 2 * a.lame_.mu);
   a.thickness_ = params.thickness;
@@ -195,7 +201,7 @@ real DeformableActor::ElasticEnergy(internal::OwnedContributors owned) const {
       energy += internal::TetEnergy(material_, lame_, tetRest_[e], Gather<4>(tetrahedra_[e]));
   for (int e = 0; e < numTriangles; ++e)
     if (owned(firstTriangle + e))
-      energy += internal::MembraneEnergy(lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
+      energy += internal::MembraneEnergy(membrane_, lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
                                          Gather<3>(triangles_[e]));
   for (int e = 0; e < static_cast<int>(hinges_.size()); ++e)
     if (owned(firstHinge + e))
@@ -316,7 +322,7 @@ void DeformableActor::AddGradientAndHessian(internal::HessianAssembler& assemble
     internal::Matrix9 h9;
     for (int e = begin; e < end; ++e) {
       if (!assembler.Evaluates(firstTriangle + e)) continue;
-      internal::MembraneEnergyGradientHessian(lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
+      internal::MembraneEnergyGradientHessian(membrane_, lame_.mu, lambdaPlaneStress_, thickness_, triangleRest_[e],
                                               Gather<3>(triangles_[e]), g9, h9, projectHessian);
       assembler.AddGradient(firstTriangle + e, g9);
       assembler.AddBlock(firstTriangle + e, h9);

@@ -37,6 +37,7 @@ struct DeformableActorParams {
   real poissonRatio = 0.3;                          ///< ν, in (−1, 0.5)
   TetMaterialModel material = TetMaterialModel::StableNeoHookean;
   real thickness = 1e-3;                            ///< shell thickness h [m], > 0 with triangles
+  MembraneModel membrane = MembraneModel::StVK;     ///< the triangles' membrane (TensionField for cloth)
   bool shellBending = true;                         ///< bending on interior edges of the triangles
   /// Optional initial displacements u (actor frame), one per node, or empty.
   DynamicArray<Real3> initialDisplacements;
@@ -120,6 +121,7 @@ class DeformableActor final : public NodalActor {
   Real3 transformPosition_;
   Quat transformRotation_;
   TetMaterialModel material_;
+  MembraneModel membrane_ = MembraneModel::StVK;
   internal::LameParameters lame_;
   real lambdaPlaneStress_ = 0, thickness_ = 0, bendingStiffness_ = 0;
   DynamicArray<std::array<int, 4>> tetrahedra_;

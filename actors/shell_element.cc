@@ -5,6 +5,20 @@
 
 #include <superdex/core/symmetric_eigen.h>
 
+namespace superdex {
+
+std::string_view ToString(MembraneModel model) {
+  switch (model) {
+    case MembraneModel::StVK:
+      return "StVK";
+    case MembraneModel::TensionField:
+      return "TensionField";
+  }
+  return "Unknown";
+}
+
+}  // namespace superdex
+
 namespace superdex::internal {
 
 namespace {
@@ -35,14 +49,85 @@ Matrix32 EdgeMatrix(Vector9 const& x) {
   return ds;
 }
 
-/// The second Piola–Kirchhoff stress S = 2μ E_G + λ_s tr(E_G) I₂.
+/// The second Piola–Kirchhoff stress S = 2μ E_G + λ_s tr(E_G) I₂ (StVK, and
+/// the taut state of the tension field; linear in E_G, so also dS from dE).
 Matrix22 SecondPiola(real mu, real lambdaPlaneStress, Matrix22 const& greenStrain) {
   return 2 * mu * greenStrain + lambdaPlaneStress * greenStrain.trace() * Matrix22::Identity();
 }
 
-real EnergyDensity(real mu, real lambdaPlaneStress, Matrix22 const& greenStrain) {
+real StvkEnergyDensity(real mu, real lambdaPlaneStress, Matrix22 const& greenStrain) {
   real const trace = greenStrain.trace();
   return mu * greenStrain.squaredNorm() + 0.5 * lambdaPlaneStress * trace * trace;
+}
+
+/// The membrane's state under the tension field (docs/deformables.md,
+/// "Membrane models"): E_G's principal strains e₁ ≥ e₂ and directions v₁, v₂
+/// (2×2 closed form), and which of the three states holds.
+struct TensionField {
+  enum State { Slack, Wrinkled, Taut } state = Taut;
+  real e1 = 0, e2 = 0;
+  Eigen::Matrix<real, 2, 1> v1, v2;
+  real a = 0, b = 0;  ///< s = [a b; b a] e in the taut state: a = 2μ + λ_s, b = λ_s
+
+  TensionField(real mu, real lambdaPlaneStress, Matrix22 const& e) : a(2 * mu + lambdaPlaneStress), b(lambdaPlaneStress) {
+    real const mean = 0.5 * (e(0, 0) + e(1, 1)), half = 0.5 * (e(0, 0) - e(1, 1));
+    real const radius = std::hypot(half, e(0, 1));
+    e1 = mean + radius;
+    e2 = mean - radius;
+    real const angle = 0.5 * std::atan2(e(0, 1), half);
+    v1 << std::cos(angle), std::sin(angle);
+    v2 << -v1(1), v1(0);
+    // taut while the lesser principal stress b e₁ + a e₂ is not compressive
+    // (then neither is the greater); wrinkled while only e₁ stretches
+    state = !(e1 > 0) ? Slack : b * e1 + a * e2 >= 0 ? Taut : Wrinkled;
+  }
+  /// Y = (a² − b²)/a: the plane-stress Young's modulus of a strip free to
+  /// contract sideways (E for this model's λ_s, μ)
+  real Uniaxial() const { return (a * a - b * b) / a; }
+};
+
+Matrix22 MembraneSecondPiola(MembraneModel model, real mu, real lambdaPlaneStress, Matrix22 const& greenStrain) {
+  if (model == MembraneModel::StVK) return SecondPiola(mu, lambdaPlaneStress, greenStrain);
+  TensionField const field(mu, lambdaPlaneStress, greenStrain);
+  switch (field.state) {
+    case TensionField::Slack: return Matrix22::Zero();
+    case TensionField::Wrinkled: return field.Uniaxial() * field.e1 * field.v1 * field.v1.transpose();
+    case TensionField::Taut: break;
+  }
+  return SecondPiola(mu, lambdaPlaneStress, greenStrain);
+}
+
+real EnergyDensity(MembraneModel model, real mu, real lambdaPlaneStress, Matrix22 const& greenStrain) {
+  if (model == MembraneModel::StVK) return StvkEnergyDensity(mu, lambdaPlaneStress, greenStrain);
+  TensionField const field(mu, lambdaPlaneStress, greenStrain);
+  switch (field.state) {
+    case TensionField::Slack: return 0;
+    case TensionField::Wrinkled: return 0.5 * field.Uniaxial() * field.e1 * field.e1;
+    case TensionField::Taut: break;
+  }
+  return StvkEnergyDensity(mu, lambdaPlaneStress, greenStrain);
+}
+
+/// dS along dE (dS = ∂S/∂E : dE). StVK and the taut state: linear. The
+/// wrinkled state, S = Y e₁ v₁v₁ᵀ: dS = Y (v₁ᵀdE v₁) v₁v₁ᵀ plus the turn of
+/// v₁, (s₁ − s₂)/(e₁ − e₂) (v₁ᵀdE v₂)(v₁v₂ᵀ + v₂v₁ᵀ), with e₁ − e₂ > e₁ > 0
+/// there. The slack state: 0.
+Matrix22 StressDifferential(MembraneModel model, real mu, real lambdaPlaneStress, Matrix22 const& greenStrain,
+                            Matrix22 const& dE) {
+  if (model == MembraneModel::StVK) return SecondPiola(mu, lambdaPlaneStress, dE);
+  TensionField const field(mu, lambdaPlaneStress, greenStrain);
+  switch (field.state) {
+    case TensionField::Slack: return Matrix22::Zero();
+    case TensionField::Wrinkled: {
+      real const y = field.Uniaxial();
+      Matrix22 const v11 = field.v1 * field.v1.transpose();
+      Matrix22 const v12 = field.v1 * field.v2.transpose();
+      real const turn = y * field.e1 / (field.e1 - field.e2);
+      return y * field.v1.dot(dE * field.v1) * v11 + turn * field.v1.dot(dE * field.v2) * (v12 + v12.transpose());
+    }
+    case TensionField::Taut: break;
+  }
+  return SecondPiola(mu, lambdaPlaneStress, dE);
 }
 
 }  // namespace
@@ -68,19 +153,19 @@ Eigen::Matrix<real, 3, 2> MembraneDeformationGradient(TriangleRestData const& re
   return EdgeMatrix(x) * rest.restShapeInverse;
 }
 
-real MembraneEnergy(real mu, real lambdaPlaneStress, real thickness, TriangleRestData const& rest,
-                    Vector9 const& x) {
+real MembraneEnergy(MembraneModel model, real mu, real lambdaPlaneStress, real thickness,
+                    TriangleRestData const& rest, Vector9 const& x) {
   Matrix32 const f = MembraneDeformationGradient(rest, x);
   Matrix22 const greenStrain = 0.5 * (f.transpose() * f - Matrix22::Identity());
-  return thickness * rest.restArea * EnergyDensity(mu, lambdaPlaneStress, greenStrain);
+  return thickness * rest.restArea * EnergyDensity(model, mu, lambdaPlaneStress, greenStrain);
 }
 
-Eigen::Matrix<real, 6, 6> MembraneStressDerivative(real mu, real lambdaPlaneStress,
+Eigen::Matrix<real, 6, 6> MembraneStressDerivative(MembraneModel model, real mu, real lambdaPlaneStress,
                                                    Eigen::Matrix<real, 3, 2> const& f) {
   Matrix22 const greenStrain = 0.5 * (f.transpose() * f - Matrix22::Identity());
-  Matrix22 const s = SecondPiola(mu, lambdaPlaneStress, greenStrain);
+  Matrix22 const s = MembraneSecondPiola(model, mu, lambdaPlaneStress, greenStrain);
   // column k = 3j + i of ∂vec P/∂vec F is vec(dP) for dF = e_i e_jᵀ:
-  //   dP = dF S + F dS,  dS = 2μ dE + λ_s tr(dE) I,  dE = sym(Fᵀ dF)
+  //   dP = dF S + F dS,  dS = StressDifferential(dE),  dE = sym(Fᵀ dF)
   Matrix6 a;
   for (int j = 0; j < 2; ++j) {
     for (int i = 0; i < 3; ++i) {
@@ -88,7 +173,7 @@ Eigen::Matrix<real, 6, 6> MembraneStressDerivative(real mu, real lambdaPlaneStre
       df(i, j) = 1;
       Matrix22 const ftdf = f.transpose() * df;
       Matrix22 const dE = 0.5 * (ftdf + ftdf.transpose());
-      Matrix32 const dp = df * s + f * SecondPiola(mu, lambdaPlaneStress, dE);
+      Matrix32 const dp = df * s + f * StressDifferential(model, mu, lambdaPlaneStress, greenStrain, dE);
       a.col(3 * j + i) = dp.reshaped();
     }
   }
@@ -96,9 +181,9 @@ Eigen::Matrix<real, 6, 6> MembraneStressDerivative(real mu, real lambdaPlaneStre
   return 0.5 * (a + a.transpose());
 }
 
-Eigen::Matrix<real, 6, 6> MembraneProjectedStressDerivative(real mu, real lambdaPlaneStress,
+Eigen::Matrix<real, 6, 6> MembraneProjectedStressDerivative(MembraneModel model, real mu, real lambdaPlaneStress,
                                                             Eigen::Matrix<real, 3, 2> const& f) {
-  Matrix6 const a = MembraneStressDerivative(mu, lambdaPlaneStress, f);
+  Matrix6 const a = MembraneStressDerivative(model, mu, lambdaPlaneStress, f);
   auto const eigen = ComputeSymmetricEigen(a);
   auto const& values = eigen.values;
   if (values.minCoeff() >= 0) return a;
@@ -107,7 +192,7 @@ Eigen::Matrix<real, 6, 6> MembraneProjectedStressDerivative(real mu, real lambda
   return 0.5 * (projected + projected.transpose());
 }
 
-real MembraneEnergyGradientHessian(real mu, real lambdaPlaneStress, real thickness,
+real MembraneEnergyGradientHessian(MembraneModel model, real mu, real lambdaPlaneStress, real thickness,
                                    TriangleRestData const& rest, Vector9 const& x,
                                    Vector9& gradient, Matrix9& hessian, bool project) {
   Matrix22 const& b = rest.restShapeInverse;
@@ -116,7 +201,7 @@ real MembraneEnergyGradientHessian(real mu, real lambdaPlaneStress, real thickne
   real const scale = thickness * rest.restArea;  // h·A
 
   // gradient: ∂E/∂D_s = h A P Bᵀ with P = F S; node 0 takes minus the sum
-  Matrix32 const p = f * SecondPiola(mu, lambdaPlaneStress, greenStrain);
+  Matrix32 const p = f * MembraneSecondPiola(model, mu, lambdaPlaneStress, greenStrain);
   Matrix32 const forces = scale * p * b.transpose();
   gradient.segment<3>(3) = forces.col(0);
   gradient.segment<3>(6) = forces.col(1);
@@ -134,12 +219,12 @@ real MembraneEnergyGradientHessian(real mu, real lambdaPlaneStress, real thickne
       for (int i = 0; i < 3; ++i) g(3 * j + i, 3 * node + i) = shapeGradients(node, j);
 
   Matrix6 const stressDerivative = project
-                                       ? MembraneProjectedStressDerivative(mu, lambdaPlaneStress, f)
-                                       : MembraneStressDerivative(mu, lambdaPlaneStress, f);
+                                       ? MembraneProjectedStressDerivative(model, mu, lambdaPlaneStress, f)
+                                       : MembraneStressDerivative(model, mu, lambdaPlaneStress, f);
   hessian.noalias() = scale * (g.transpose() * stressDerivative * g);
   hessian = 0.5 * (hessian + hessian.transpose()).eval();
 
-  return scale * EnergyDensity(mu, lambdaPlaneStress, greenStrain);
+  return scale * EnergyDensity(model, mu, lambdaPlaneStress, greenStrain);
 }
 
 // ----------------------------------------------------------------- bending

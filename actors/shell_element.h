@@ -23,6 +23,11 @@
 // triangle (F with the orientation of the rest triangle reversed) is not
 // special for StVK: its energy is that of the mirror image, finite.
 //
+// MembraneModel::TensionField relaxes this Ψ where it would carry a
+// compressive principal stress (the enum below; docs/deformables.md): S and
+// dS come from E_G's principal strains and directions, the rest (F, G, the
+// assembly) is shared.
+//
 // Bending (Bergou, Wardetzky, Harmon, Zorin, Grinspun 2006, "A Quadratic
 // Bending Model for Inextensible Surfaces", SGP). Hinge: shared edge (x₀, x₁),
 // x₂ opposite in triangle A = (x₀, x₁, x₂), x₃ opposite in triangle
@@ -76,7 +81,29 @@
 // over a diamond (c = 1, k_b = D) is 3× too stiff on every mesh above.
 #pragma once
 
+#include <string_view>
+
 #include <superdex/core/types.h>
+
+namespace superdex {
+
+/// The membrane's constitutive model (docs/deformables.md, "Membrane models").
+enum class MembraneModel {
+  /// Saint Venant–Kirchhoff in plane stress (above): resists compression as
+  /// stretch; non-convex under compression, where a thin sheet buckles
+  StVK,
+  /// StVK relaxed by tension-field theory: no compressive stress (a
+  /// compressed sheet wrinkles below the mesh's resolution). Taut (both
+  /// principal stresses ≥ 0): StVK; wrinkled (only e₁ stretched): ½ Y e₁²,
+  /// Y = (a² − b²)/a, a = 2μ + λ_s, b = λ_s, the energy of a strip free to
+  /// contract sideways; slack (e₁ ≤ 0): 0. Convex in F, C¹: its exact
+  /// Hessian is positive semi-definite, so Newton needs no projection
+  TensionField,
+};
+
+std::string_view ToString(MembraneModel model);
+
+}  // namespace superdex
 
 namespace superdex::internal {
 
@@ -104,17 +131,17 @@ bool MakeTriangleRestData(Real3 const& x0, Real3 const& x1, Real3 const& x2, Tri
 /// F = D_s D_m⁻¹ (3×2) from the 9 current coordinates.
 Eigen::Matrix<real, 3, 2> MembraneDeformationGradient(TriangleRestData const& rest, Vector9 const& x);
 
-/// E = h A (μ tr(E_G²) + λ_s/2 tr(E_G)²) [J]; μ, λ_s [Pa], h [m]. Zero for every rigid motion of the rest triangle.
-real MembraneEnergy(real mu, real lambdaPlaneStress, real thickness, TriangleRestData const& rest, Vector9 const& x);
+/// E = h A Ψ(E_G) [J] (StVK: Ψ = μ tr(E_G²) + λ_s/2 tr(E_G)²); μ, λ_s [Pa], h [m]. Zero for every rigid motion of the rest triangle.
+real MembraneEnergy(MembraneModel model, real mu, real lambdaPlaneStress, real thickness, TriangleRestData const& rest, Vector9 const& x);
 
-/// Energy, gradient (9) and Hessian (9×9). With `project` the Hessian is h A Gᵀ PSD(∂²Ψ/∂F²) G (negative eigenvalues of the 6×6 ∂²Ψ/∂F² clamped to 0), PSD; without it the exact Hessian, indefinite under compression. The Hessian is exactly symmetric.
-real MembraneEnergyGradientHessian(real mu, real lambdaPlaneStress, real thickness, TriangleRestData const& rest, Vector9 const& x, Vector9& gradient, Matrix9& hessian, bool project);
+/// Energy, gradient (9) and Hessian (9×9). With `project` the Hessian is h A Gᵀ PSD(∂²Ψ/∂F²) G (negative eigenvalues of the 6×6 ∂²Ψ/∂F² clamped to 0), PSD; without it the exact Hessian (StVK: indefinite under compression; TensionField: PSD). The Hessian is exactly symmetric.
+real MembraneEnergyGradientHessian(MembraneModel model, real mu, real lambdaPlaneStress, real thickness, TriangleRestData const& rest, Vector9 const& x, Vector9& gradient, Matrix9& hessian, bool project);
 
 /// The exact ∂²Ψ/∂F² = ∂vec P/∂vec F (6×6, vec column-major: index 3j + i for F(i, j)), exactly symmetric.
-Eigen::Matrix<real, 6, 6> MembraneStressDerivative(real mu, real lambdaPlaneStress, Eigen::Matrix<real, 3, 2> const& f);
+Eigen::Matrix<real, 6, 6> MembraneStressDerivative(MembraneModel model, real mu, real lambdaPlaneStress, Eigen::Matrix<real, 3, 2> const& f);
 
 /// ∂²Ψ/∂F² with its negative eigenvalues clamped to 0 (fixed-size SelfAdjointEigenSolver); the exact one, unchanged, when none is negative.
-Eigen::Matrix<real, 6, 6> MembraneProjectedStressDerivative(real mu, real lambdaPlaneStress, Eigen::Matrix<real, 3, 2> const& f);
+Eigen::Matrix<real, 6, 6> MembraneProjectedStressDerivative(MembraneModel model, real mu, real lambdaPlaneStress, Eigen::Matrix<real, 3, 2> const& f);
 
 // ----------------------------------------------------------------- bending
 

@@ -48,6 +48,7 @@ struct Options {
   real time = 4;
   int cells = 20;
   IntegratorType integrator = IntegratorType::BackwardEuler;
+  MembraneModel membrane = MembraneModel::StVK;
   // Where the sheet is compressed (folds, wrinkles) the StVK membrane is
   // non-convex; the per-element PSD projection then makes Newton converge
   // only linearly, and a step can need far more than the default 50.
@@ -65,6 +66,7 @@ Options ParseOptions(int argc, char** argv) {
       .Number("--time", "S", o.time, "simulated time [s] (default 4)")
       .Count("--cells", "N", o.cells, "N x N quads, 2 triangles each (default 20)")
       .Integrator("--integrator", o.integrator, "backward Euler or BDF2 (default be)")
+      .Membrane("--membrane", o.membrane, "the sheet's membrane model (default stvk)")
       .Count("--max-newton", "N", o.maxNewton, "Newton iteration cap per stage (default 300)")
       .Count("--vtk-every", "N", o.vtkEvery, "write a .vtu frame every N steps (default 4)")
       .Parse(argc, argv);
@@ -95,6 +97,7 @@ int main(int argc, char** argv) {
   clothParams.poissonRatio = kPoisson;
   clothParams.thickness = kThickness;
   clothParams.density = kDensity;
+  clothParams.membrane = options.membrane;
   DeformableActor* cloth = scene->CreateDeformableActor(clothParams, error);
   if (!cloth) Fail("CreateDeformableActor", error);
 

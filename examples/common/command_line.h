@@ -80,6 +80,18 @@ class CommandLine {
     });
   }
 
+  /// "stvk" or "tension-field" (MembraneModel).
+  CommandLine& Membrane(std::string name, MembraneModel& target, std::string help) {
+    return Add(name, "stvk|tension-field", std::move(help), [name, &target](std::string const& v) {
+      if (v == "stvk")
+        target = MembraneModel::StVK;
+      else if (v == "tension-field")
+        target = MembraneModel::TensionField;
+      else
+        Fail(name + " must be 'stvk' or 'tension-field', got '" + v + "'");
+    });
+  }
+
   /// Applies argv; --help prints the usage and exits 0, a bad option or
   /// value prints the usage and fails.
   void Parse(int argc, char** argv) const {

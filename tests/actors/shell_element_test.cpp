@@ -24,6 +24,7 @@
 
 
 #include <cmath>
+#include <random>
 #include <functional>
 #include <map>
 #include <numbers>
@@ -382,20 +383,20 @@ TEST_CASE("membrane gradient and Hessian match central differences and the proje
   Vector9 const x = Deform(t, c);
 
   auto energy = [&](Vector9 const& y) {
-    return MembraneEnergy(kMu, kLambdaPlaneStress, kThickness, rest, y);
+    return MembraneEnergy(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, y);
   };
   auto gradientOf = [&](Vector9 const& y) {
     Vector9 g;
     Matrix9 h;
-    MembraneEnergyGradientHessian(kMu, kLambdaPlaneStress, kThickness, rest, y, g, h, false);
+    MembraneEnergyGradientHessian(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, y, g, h, false);
     return g;
   };
 
   Vector9 gradient, projectedGradient;
   Matrix9 hessian, projected;
-  real const e = MembraneEnergyGradientHessian(kMu, kLambdaPlaneStress, kThickness, rest, x,
+  real const e = MembraneEnergyGradientHessian(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, x,
                                                gradient, hessian, false);
-  real const ep = MembraneEnergyGradientHessian(kMu, kLambdaPlaneStress, kThickness, rest, x,
+  real const ep = MembraneEnergyGradientHessian(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, x,
                                                 projectedGradient, projected, true);
   REQUIRE(e == energy(x));
   REQUIRE(ep == e);
@@ -479,8 +480,8 @@ TEST_CASE("membrane: rotation invariance and the uniaxial-stretch closed form",
 
     Vector9 g, rg;
     Matrix9 h, rh;
-    real const e = MembraneEnergyGradientHessian(kMu, kLambdaPlaneStress, kThickness, rest, x, g, h, project);
-    real const re = MembraneEnergyGradientHessian(kMu, kLambdaPlaneStress, kThickness, rest, rx, rg, rh, project);
+    real const e = MembraneEnergyGradientHessian(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, x, g, h, project);
+    real const re = MembraneEnergyGradientHessian(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, rx, rg, rh, project);
     CAPTURE(e, re);
     REQUIRE(e > 1e-5);
     REQUIRE(Near(re, e, 1e-12));
@@ -498,10 +499,135 @@ TEST_CASE("membrane: rotation invariance and the uniaxial-stretch closed form",
     x << t.x0, t.x0 + m * (t.x1 - t.x0), t.x0 + m * (t.x2 - t.x0);
     real const strain = 0.5 * (s * s - 1);
     real const expected = kThickness * rest.restArea * (kMu + 0.5 * kLambdaPlaneStress) * strain * strain;
-    real const e = MembraneEnergy(kMu, kLambdaPlaneStress, kThickness, rest, x);
+    real const e = MembraneEnergy(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, x);
     CAPTURE(e, expected);
     REQUIRE(expected > 0);
     REQUIRE(std::abs(e - expected) <= 1e-9 * expected);
+  }
+}
+
+TEST_CASE("tension-field membrane: StVK where taut, ½ Y e₁² where wrinkled, 0 where slack; convex, exact derivatives",
+          "[actors][shell][membrane][derivatives]") {
+  RestTriangle const t;
+  TriangleRestData rest;
+  REQUIRE(MakeTriangleRestData(t.x0, t.x1, t.x2, rest));
+  Real3 e1, e2, n;
+  RestFrame(t, e1, e2, n);
+  constexpr MembraneModel kTension = MembraneModel::TensionField;
+  // stretches s₁ along a direction turned by `angle` from e1 in the plane, s₂
+  // across it, a shear and a little out of plane, then rotated and shifted
+  auto deformed = [&](real s1, real s2, real angle, real shear = 0, real lift = 0) {
+    Real3 const a = std::cos(angle) * e1 + std::sin(angle) * e2, b = n.cross(a);
+    Real33 const m = s1 * a * a.transpose() + s2 * b * b.transpose() + shear * a * b.transpose() + n * n.transpose();
+    Real33 const r = Rotation(0.7, Real3(0.2, 1, -0.4));
+    Vector9 x;
+    x << t.x0, t.x0 + r * m * (t.x1 - t.x0), t.x0 + r * m * (t.x2 - t.x0) + lift * n;
+    return Vector9(x + Vector9::Constant(0.3));
+  };
+  auto energy = [&](Vector9 const& y) { return MembraneEnergy(kTension, kMu, kLambdaPlaneStress, kThickness, rest, y); };
+  auto gradientOf = [&](Vector9 const& y) {
+    Vector9 g;
+    Matrix9 h;
+    MembraneEnergyGradientHessian(kTension, kMu, kLambdaPlaneStress, kThickness, rest, y, g, h, false);
+    return g;
+  };
+  real const a = 2 * kMu + kLambdaPlaneStress, b = kLambdaPlaneStress;
+  real const uniaxial = (a * a - b * b) / a;  // Y, = E for plane stress
+  REQUIRE(std::abs(uniaxial - kYoung) <= 1e-9 * kYoung);
+  real const nu = b / a;                       // the sideways contraction of a strip, = ν
+
+  SECTION("taut: exactly StVK") {
+    Vector9 const x = GENERATE_COPY(deformed(1.2, 1.1, 0.3, 0.05, 0.002), deformed(1.1, 1.0, 1.0, 0.1));
+    Vector9 g, gs;
+    Matrix9 h, hs;
+    real const e = MembraneEnergyGradientHessian(kTension, kMu, kLambdaPlaneStress, kThickness, rest, x, g, h, false);
+    real const es = MembraneEnergyGradientHessian(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, x, gs, hs, false);
+    REQUIRE(e > 1e-5);
+    REQUIRE(e == es);
+    REQUIRE(g == gs);
+    REQUIRE(h == hs);
+  }
+
+  SECTION("slack: no energy, force or stiffness") {
+    Vector9 const x = GENERATE_COPY(deformed(0.8, 0.9, 0.4, 0.1, 0.003), deformed(1.0, 0.7, 1.2));
+    Vector9 g;
+    Matrix9 h;
+    real const e = MembraneEnergyGradientHessian(kTension, kMu, kLambdaPlaneStress, kThickness, rest, x, g, h, false);
+    REQUIRE(e == 0);
+    REQUIRE(g.isZero(0));
+    REQUIRE(h.isZero(0));
+    // StVK stores energy there
+    REQUIRE(MembraneEnergy(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, x) > 1e-3);
+  }
+
+  SECTION("wrinkled: a strip stretched s and held narrower than its free contraction stores ½ Y e₁² h A") {
+    real const s = GENERATE(1.05, 1.3);
+    real const angle = GENERATE(0.0, 0.9, 2.5);
+    CAPTURE(s, angle);
+    real const strain = 0.5 * (s * s - 1);
+    // across: narrower than the free contraction (e₂ = −ν e₁), still positive
+    real const free = std::sqrt(1 - 2 * nu * strain);
+    Vector9 const x = deformed(s, 0.9 * free, angle);
+    real const expected = kThickness * rest.restArea * 0.5 * uniaxial * strain * strain;
+    real const e = energy(x);
+    CAPTURE(e, expected);
+    REQUIRE(std::abs(e - expected) <= 1e-12 * expected);
+    // StVK, resisting the compression across, stores more
+    REQUIRE(MembraneEnergy(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, x) > 1.01 * e);
+  }
+
+  SECTION("gradient and Hessian against central differences; the exact Hessian PSD; projection changes nothing") {
+    Vector9 const x = GENERATE_COPY(deformed(1.2, 0.9, 0.3, 0.05, 0.002), deformed(1.3, 0.6, 2.0, 0.3),
+                                    deformed(1.05, 1.0, 1.1, 0.0, 0.004), deformed(1.2, 1.1, 0.3, 0.05, 0.002));
+    Vector9 g, gp;
+    Matrix9 h, hp;
+    real const e = MembraneEnergyGradientHessian(kTension, kMu, kLambdaPlaneStress, kThickness, rest, x, g, h, false);
+    MembraneEnergyGradientHessian(kTension, kMu, kLambdaPlaneStress, kThickness, rest, x, gp, hp, true);
+    REQUIRE(e > 1e-6);
+    REQUIRE(e == energy(x));
+    real const hessianScale = h.cwiseAbs().maxCoeff();
+    REQUIRE(hessianScale > 10);
+    real const gradientError = RelativeError(g, CentralDifferenceGradient<9>(energy, x));
+    real const hessianError = RelativeError(h, CentralDifferenceJacobian<9>(gradientOf, x));
+    real const minExact = MinEigenvalue<9>(h);
+    CAPTURE(e, gradientError, hessianError, minExact, hessianScale);
+    REQUIRE(gradientError <= kFdTol);
+    REQUIRE(hessianError <= kFdTol);
+    REQUIRE(h == h.transpose());
+    REQUIRE(minExact >= -1e-12 * hessianScale);
+    REQUIRE(RelativeError(hp, h) <= 1e-12);
+  }
+
+  SECTION("C¹ across the states: energy and force continuous at e₂ = −ν e₁ and at e₁ = 0") {
+    real const s = 1.2, strain = 0.5 * (s * s - 1);
+    real const boundary = std::sqrt(1 - 2 * nu * strain);  // s₂ where e₂ = −ν e₁
+    for (auto [p, q] : {std::pair{deformed(s, boundary * (1 + 1e-9), 0.6), deformed(s, boundary * (1 - 1e-9), 0.6)},
+                        std::pair{deformed(1 + 1e-9, 0.8, 0.6), deformed(1 - 1e-9, 0.8, 0.6)}}) {
+      real const ep = energy(p), eq = energy(q);
+      Vector9 const gp = gradientOf(p), gq = gradientOf(q);
+      real const scale = gradientOf(deformed(s, 0.9 * boundary, 0.6)).cwiseAbs().maxCoeff();  // a wrinkled state's
+      CAPTURE(ep, eq, gp.transpose(), gq.transpose());
+      REQUIRE(std::abs(ep - eq) <= 1e-6 * std::max(ep, 1e-12) + 1e-15);
+      REQUIRE((gp - gq).cwiseAbs().maxCoeff() <= 1e-6 * scale);
+    }
+  }
+
+  SECTION("convex in x: E(½(x + y)) <= ½(E(x) + E(y)) on random pairs (StVK is not)") {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<real> u(-0.3, 0.3);
+    Vector9 const base = deformed(1.0, 1.0, 0.0);
+    int stvkViolations = 0;
+    for (int k = 0; k < 2000; ++k) {
+      Vector9 x = base, y = base;
+      for (int i = 0; i < 9; ++i) x(i) += kSize * u(rng), y(i) += kSize * u(rng);
+      Vector9 const mid = 0.5 * (x + y);
+      real const lhs = energy(mid), rhs = 0.5 * (energy(x) + energy(y));
+      CAPTURE(k, lhs, rhs);
+      REQUIRE(lhs <= rhs + 1e-12 * std::abs(rhs));
+      auto stvk = [&](Vector9 const& z) { return MembraneEnergy(MembraneModel::StVK, kMu, kLambdaPlaneStress, kThickness, rest, z); };
+      stvkViolations += stvk(mid) > 0.5 * (stvk(x) + stvk(y));
+    }
+    REQUIRE(stvkViolations > 0);
   }
 }
 

@@ -69,7 +69,7 @@ MODULE = ("Error ErrorCode ActorHandle ConstraintHandle hat exp exp_matrix log l
           "OrderingMethod HessianProjection NewtonParams SubstepParams SceneParams SceneStats Communicator ActorType "
           "JointType ArticulatedBlockSolve "
           "joint_dofs "
-          "TetMaterialModel RigidActorParams DeformableActorParams RodActorParams ArticulatedLinkParams "
+          "TetMaterialModel MembraneModel RigidActorParams DeformableActorParams RodActorParams ArticulatedLinkParams "
           "ArticulatedActorParams RodStiffness TetMesh TriangleMesh make_tet_box make_triangle_grid make_hinges "
           "read_tet_gen read_gmsh_tets read_gmsh_triangles read_obj validate_tet_mesh validate_triangle_mesh "
           "remove_unused_nodes signed_volume VtkPointData write_vtu write_vtu_polylines write_rods_vtu "

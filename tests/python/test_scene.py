@@ -184,6 +184,24 @@ def test_shell_from_a_triangle_grid():
     assert cloth.get_node_positions()[:, 1].min() < -0.01  # it falls away from its pins
 
 
+def test_membrane_models_a_sheet_compressed_and_stretched():
+    # a flat 4 x 4 sheet scaled in its plane: compressed, the tension field
+    # stores nothing where StVK does; stretched, the two agree
+    mesh = mochi.make_triangle_grid(origin=[0, 0, 0], size_x=1, size_z=1, cells_x=4, cells_z=4)
+    energies = {}
+    for scale in (0.9, 1.1):
+        for model in (mochi.MembraneModel.StVK, mochi.MembraneModel.TensionField):
+            scene = mochi.Scene.create()
+            sheet = scene.create_deformable_actor(nodes=mesh.nodes, triangles=mesh.triangles, thickness=1e-3,
+                                                  young_modulus=1e6, membrane=model,
+                                                  initial_displacements=(scale - 1) * mesh.nodes)
+            energies[scale, model] = sheet.get_elastic_energy()
+    assert energies[0.9, mochi.MembraneModel.StVK] > 1
+    assert energies[0.9, mochi.MembraneModel.TensionField] < 1e-20  # (the hinges: round-off of 0)
+    assert energies[1.1, mochi.MembraneModel.StVK] > 1
+    assert energies[1.1, mochi.MembraneModel.TensionField] == pytest.approx(energies[1.1, mochi.MembraneModel.StVK], rel=1e-14)
+    assert str(mochi.DeformableActorParams().membrane) == "MembraneModel.StVK"
+
 def test_rod_hanging_from_a_pin():
     # a 0.5 m steel-like rod of 10 elements, hanging down from its top node
     nodes = [[0, -0.05 * i, 0] for i in range(11)]

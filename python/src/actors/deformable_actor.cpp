@@ -22,6 +22,7 @@ void DefineDeformableActor(py::module_& m) {
       .Field("poisson_ratio", &P::poissonRatio, "ν in (-1, 0.5), default 0.3")
       .Field("material", &P::material, "TetMaterialModel, default StableNeoHookean")
       .Field("thickness", &P::thickness, "shell thickness h [m], > 0 with triangles, default 1e-3")
+      .Field("membrane", &P::membrane, "MembraneModel of the triangles, default StVK (TensionField for cloth)")
       .Field("shell_bending", &P::shellBending,
              "bending on interior edges of the triangles, default True")
       .Field("initial_displacements", &P::initialDisplacements,
@@ -34,7 +35,7 @@ void DefineDeformableActor(py::module_& m) {
   py::class_<Ref, NodalActorRef>(m, "DeformableActor",
                                  "A mesh of nodes with 3 displacement DoFs each; node i's world "
                                  "position is T(X + u). Elements: linear tetrahedra, shell "
-                                 "membranes (StVK) and bending hinges.")
+                                 "membranes (StVK or tension field) and bending hinges.")
       .def("get_num_tetrahedra", Forward<Ref>(&A::GetNumTetrahedra))
       .def("get_num_triangles", Forward<Ref>(&A::GetNumTriangles))
       .def("get_num_hinges", Forward<Ref>(&A::GetNumHinges),

@@ -1,4 +1,5 @@
-// actors/tet_element.h: the hyperelastic models of tetrahedra.
+// actors/tet_element.h and actors/shell_element.h: the hyperelastic models of
+// tetrahedra and the membrane models of shell triangles.
 #include "defines.h"
 
 namespace superdex::python {
@@ -10,6 +11,11 @@ void DefineTetElement(py::module_& m) {
           "Smith, de Goes, Kim 2018; matches linear elasticity at rest, defined through inversion")
       .value("LinearElastic", TetMaterialModel::LinearElastic,
              "small strain; cheapest, constant Hessian, not rotation invariant");
+  py::enum_<MembraneModel>(m, "MembraneModel", "Membrane model of shell triangles (docs/deformables.md).")
+      .value("StVK", MembraneModel::StVK,
+             "Saint Venant-Kirchhoff, plane stress: resists compression; non-convex where compressed")
+      .value("TensionField", MembraneModel::TensionField,
+             "StVK relaxed by tension-field theory: no compressive stress (cloth wrinkles); convex");
 }
 
 }  // namespace superdex::python
