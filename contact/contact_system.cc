@@ -823,6 +823,10 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   real const thickness = body.thickness_ + obstacle.thickness_;
   real const mu = std::sqrt(body.friction_ * obstacle.friction_);
   bool const self = bodyIndex == obstacleIndex;
+  // a self pair's primitives move at most their self bound each relative to
+  // the body's mean: one whose gap exceeds twice that plus d̂ cannot reach d̂
+  // this stage (the boxes below are coarser: a flat cloth's neighbours)
+  real const selfReach = self ? 2 * selfBound_[bodyIndex] + dhat : 0;
   auto add = [&](PairKind kind, std::array<int, 4> v, std::array<bool, 4> onBody, int count, real weight) {
     if (!(weight > 0)) return;
     // self contact: never between primitives that share a vertex or that are
@@ -840,6 +844,7 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
     pair.weight = weight;
     pair.mu = mu;
     pair.key = PairKey(static_cast<int>(kind), body.id_, obstacle.id_, v);
+    if (self && Gap(pair, x_, nullptr) > selfReach) return;
     if (kind == PairKind::EdgeEdge)
       pair.mollifierThreshold = contact::EdgeEdgeMollifierThreshold(x_[v[0]], x_[v[1]], x_[v[2]], x_[v[3]]);
     pairs_.push_back(pair);
