@@ -189,6 +189,14 @@ TEST_CASE("bad deformable input gives an Error naming the element and changes no
     p.thickness = 0;
     expectError(p, "thickness");
   }
+  SECTION("a material or membrane model out of its enum") {
+    DeformableActorParams p = good;
+    p.material = static_cast<TetMaterialModel>(7);
+    expectError(p, "material");
+    p = good;
+    p.membrane = static_cast<MembraneModel>(-1);
+    expectError(p, "membrane");
+  }
   SECTION("a node in no element") {
     DeformableActorParams p = good;
     p.nodes.push_back(Real3(1, 1, 1));
