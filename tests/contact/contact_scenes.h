@@ -192,9 +192,12 @@ inline ContactScene CubeStackScene(SceneParams params, int count = 5) {
 
 /// A square cloth of n × n nodes, `size` m wide, in the x–z plane at height
 /// y centred on the y axis, turned by `rotation` about its centre: the perf
-/// harness's cloth (StVK membrane and hinge bending, E = 1e6 Pa, ν = 0.3,
-/// h = 1 mm, 300 kg/m³), with its self contact.
-inline DeformableActor* MakeCloth(Scene& scene, int n, real size, real y, Quat const& rotation) {
+/// harness's cloth (hinge bending, E = 1e6 Pa, ν = 0.3, h = 1 mm,
+/// 300 kg/m³), with its self contact; its membrane the tension field (a
+/// cloth pressed into folds wrinkles; with StVK the compressed membrane's
+/// saddles cost Newton far more iterations, docs/contact.md "Measured").
+inline DeformableActor* MakeCloth(Scene& scene, int n, real size, real y, Quat const& rotation,
+                                  MembraneModel membrane = MembraneModel::TensionField) {
   TriangleMesh mesh;
   Error error;
   REQUIRE(MakeTriangleGrid(Real3(-0.5 * size, 0, -0.5 * size), size, size, n - 1, n - 1, mesh, error));
@@ -205,6 +208,7 @@ inline DeformableActor* MakeCloth(Scene& scene, int n, real size, real y, Quat c
   cloth.poissonRatio = 0.3;
   cloth.thickness = 1e-3;
   cloth.density = 300;
+  cloth.membrane = membrane;
   DeformableActor* actor = MakeDeformable(scene, cloth);
   MakeSurface(scene, *actor);
   return actor;
