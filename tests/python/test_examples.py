@@ -88,3 +88,8 @@ def test_contact_scenes_draw_their_output(tmp_path):
     assert float(ball.split("bounce peak ")[1].split(" m")[0]) > 0.3
     # the stack rests: below the 1e-4 m of docs/contact.md's bar
     assert float(lines[2].split("drift ")[1].split(" m")[0]) < 1e-4
+    # the cloth lies on the sphere: never through it nor the ground, and its
+    # middle within its thickness and the barrier's layer of the sphere
+    # (1.8 mm measured)
+    clearance = float(lines[3].split("clearance ")[1].split(" m")[0])
+    assert 0 < clearance < 5e-3
