@@ -443,6 +443,7 @@ void ContactSystem::PrepareVertices() {
   x_.resize(numVertices);
   trial_.resize(numVertices);
   displacement_.resize(numVertices);
+  vertexFraction_.resize(numVertices);  // (LimitStepPerDof assigns without allocating)
   UpdatePositions(x_);
   x0_ = x_;
   boundCenter_ = x_;
@@ -1482,6 +1483,43 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
     safe = colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid() ? RigidPairCcd(pair, delta, safe)
                                                                              : safe * LinearPairCcd(pair, x_, safe);
   return safe;
+}
+
+void ContactSystem::LimitStepPerDof(Span<real> delta) const {
+  UpdatePositions(x_);
+  // the nodal vertices' displacements along δ and the room their bounds leave
+  vertexFraction_.assign(x_.size(), 1);
+  for (std::size_t c = 0; c < colliders_.size(); ++c) {
+    Collider const& col = *colliders_[c];
+    for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) displacement_[i].setZero();
+    if (!col.nodal_) continue;
+    Real33 const r = col.nodal_->GetTransformRotation().toRotationMatrix();
+    int const o = col.nodal_->GetDofOffset(), stride = col.nodal_->GetNodeDofStride();
+    for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) {
+      int const dof = o + stride * col.local_[i - firstVertex_[c]].node;
+      displacement_[i] = r * Real3(delta[dof], delta[dof + 1], delta[dof + 2]);
+      real const step = displacement_[i].norm();
+      if (step > 0)
+        vertexFraction_[i] = std::min(real(1), std::max(bound_[i] - (x_[i] - boundCenter_[i]).norm(), real(0)) / step);
+    }
+  }
+  KinematicDisplacements();
+  // each linear pair's time of impact along δ, for each of its vertices
+  for (Pair const& pair : pairs_) {
+    if (colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid()) continue;
+    real const fraction = LinearPairCcd(pair, x_, 1);
+    if (fraction >= 1) continue;
+    for (int k = 0; k < pair.numVertices; ++k) vertexFraction_[pair.v[k]] = std::min(vertexFraction_[pair.v[k]], fraction);
+  }
+  for (std::size_t c = 0; c < colliders_.size(); ++c) {
+    Collider const& col = *colliders_[c];
+    if (!col.nodal_) continue;
+    int const o = col.nodal_->GetDofOffset(), stride = col.nodal_->GetNodeDofStride();
+    for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) {
+      int const dof = o + stride * col.local_[i - firstVertex_[c]].node;
+      for (int k = 0; k < 3; ++k) delta[dof + k] *= vertexFraction_[i];
+    }
+  }
 }
 
 bool ContactSystem::RecenterStepBounds() {

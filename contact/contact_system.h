@@ -238,6 +238,10 @@ class ContactSystem final : public StageTerm {
   /// the bound (a cloth landing edge first: the landed edge stops while the
   /// rest falls on).
   bool RecenterStepBounds() override;
+  /// Each nodal vertex's share of δ scaled to the smallest of 1, the room
+  /// its displacement bound leaves and the CCD fractions of its linear
+  /// candidate pairs along δ; rigid bodies' and links' DoFs unchanged.
+  void LimitStepPerDof(Span<real> delta) const override;
   bool AcceptsFirstIterate() const override;
   bool AtTarget() const override { return progress_ >= 1; }
   bool AdvanceTarget(real fraction) override;
@@ -379,6 +383,7 @@ class ContactSystem final : public StageTerm {
   /// per collider: a moving Plane's shift along its normal over the rest
   /// of its way this stage (the safe step's)
   mutable DynamicArray<real> planeShift_;
+  mutable DynamicArray<real> vertexFraction_;  ///< LimitStepPerDof's per-vertex fractions (storage kept)
   real progress_ = 1;  ///< of the kinematic obstacles along this stage's move
 };
 

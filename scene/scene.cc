@@ -392,6 +392,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.separateCouplingRetries = 0;
   stats_.roundOffConvergences = 0;
   stats_.lineSearchExpansions = 0;
+  stats_.limitedSteps = 0;
   stats_.diagonalShifts = 0;
   stats_.secondOrderCorrections = 0;
   stats_.truncatedSolves = 0;

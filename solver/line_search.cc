@@ -63,6 +63,12 @@ bool LineSearch::Search(NewtonParams const& newton, bool projected, real slope, 
     problem_.RestoreIterate();
     return false;
   }
+  // cut short (a contact stopping a few vertices stops the whole step
+  // along δ): the step limited per DoF share may go further
+  if (problem_.BoundsSteps() && !corrected && alpha < 0.5 && TryLimitedStep(energy, alpha, trialEnergy, stats)) {
+    energy = trialEnergy;
+    return true;
+  }
   // Expansion: a projected Hessian overestimates the curvature
   // (H_p − H ⪰ 0). Where the full step decreased Eᵢ by more than 3/4 of the
   // slope (1.5 × the decrease the model predicts, ½|∇E·δ|), the true
@@ -79,6 +85,30 @@ bool LineSearch::Search(NewtonParams const& newton, bool projected, real slope, 
     problem_.AcceptStep({delta, alpha, false});
   energy = trialEnergy;
   return true;
+}
+
+bool LineSearch::TryLimitedStep(real energy, real alpha, real& trialEnergy, SceneStats& stats) {
+  Span<real const> const delta(delta_->data(), delta_->size());
+  correctedStep_ = *delta_;
+  problem_.LimitStepPerDof(Span<real>(correctedStep_.data(), correctedStep_.size()));
+  real const slope = gradient_->dot(correctedStep_);
+  if (!(slope < 0)) return false;  // not a descent direction: δ's point stays
+  Span<real const> const limited(correctedStep_.data(), correctedStep_.size());
+  real beta = std::min(real(1), problem_.LargestSafeStep(limited, 1));
+  constexpr int kMaxHalvings = 10;
+  for (int k = 0; k <= kMaxHalvings; ++k, beta *= 0.5) {
+    problem_.ApplyIncrementFromSaved(limited, beta);
+    real const limitedEnergy = convergence_.Energy();
+    if (!SufficientDecrease(energy, limitedEnergy, beta, slope, convergence_.Resolution())) continue;
+    if (!(limitedEnergy < trialEnergy)) break;
+    *delta_ = correctedStep_;
+    problem_.AcceptStep({delta, beta, false});
+    trialEnergy = limitedEnergy;
+    ++stats.limitedSteps;
+    return true;
+  }
+  problem_.ApplyIncrementFromSaved(delta, alpha);
+  return false;
 }
 
 real LineSearch::Expand(real& trialEnergy, SceneStats& stats) {

@@ -3,6 +3,9 @@
 // sufficient decrease on Eᵢ plus a round-off allowance; a rejected full step
 // first tries a second-order correction (terms with curvature: constraints);
 // a projected step on a concave ray is lengthened while Eᵢ keeps falling.
+// A step cut to less than half also tries the direction in which each DoF
+// share is limited on its own (StageTerm::LimitStepPerDof), and keeps the
+// lower Eᵢ of the two.
 //
 // The safe-step hook: every trial step is bounded by StageTerm::
 // LargestSafeStep over the terms that bound steps (collision detection will
@@ -50,13 +53,19 @@ class LineSearch {
   bool SecondOrderCorrection(real energy, real slope, SceneStats& stats, real& trialEnergy);
   /// Doubles a projected full step while each doubling decreases Eᵢ further.
   real Expand(real& trialEnergy, SceneStats& stats);
+  /// The actors at q + α δ with Eᵢ = trialEnergy there, α < ½: tries δ
+  /// limited per DoF share (StageTerm::LimitStepPerDof) with its own safe
+  /// step and backtracking; true, with the actors there, the terms told and
+  /// `trialEnergy` lowered, where it decreases Eᵢ sufficiently and below
+  /// trialEnergy (δ then holds it); false with the actors back at q + α δ.
+  bool TryLimitedStep(real energy, real alpha, real& trialEnergy, SceneStats& stats);
 
   StageProblem& problem_;
   ConvergenceTest& convergence_;
   LinearStep& linear_;
   VectorX* gradient_ = nullptr;
   VectorX* delta_ = nullptr;
-  VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction
+  VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction; the limited step
   real safeAlpha_ = 1;  ///< the terms' safe step along this iteration's δ
 };
 

@@ -53,6 +53,11 @@ struct SceneStats {
   /// Newton iterations whose projected step the line search lengthened
   /// (doubled while Eᵢ kept falling along a concave ray: near a saddle)
   int lineSearchExpansions = 0;
+  /// Line searches that took the step limited per DoF share (a contact's
+  /// vertices stopped at their own times of impact, the rest moving on)
+  /// over the one along δ cut short (docs/contact.md, "A line search that
+  /// never lets surfaces pass").
+  int limitedSteps = 0;
   /// Newton iterations whose full step the line search took with a
   /// second-order correction for the constraints' curvature
   int secondOrderCorrections = 0;

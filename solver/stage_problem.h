@@ -59,6 +59,11 @@ class StageProblem {
   /// StageTerm::RecenterStepBounds of every term that bounds steps: whether
   /// one found its region again (the stage contributors may have changed).
   bool RecenterStepBounds();
+  /// StageTerm::LimitStepPerDof of every term that bounds steps, in turn.
+  void LimitStepPerDof(Span<real> delta) const {
+    for (StageTerm* term : terms_)
+      if (term->BoundsSteps()) term->LimitStepPerDof(delta);
+  }
   void AcceptStep(AcceptedStep const& step);
   /// Whether every term is at its stage target (StageTerm::AtTarget).
   bool AtTargets() const;

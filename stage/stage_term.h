@@ -178,6 +178,13 @@ class StageTerm {
   /// term it adds is zero at the current iterate, so Eᵢ does not change.
   /// The default: never.
   virtual bool RecenterStepBounds() { return false; }
+  /// A term that bounds steps may offer the line search a second direction
+  /// where the step along δ was cut short: δ with each of its DoFs' shares
+  /// scaled down to the fraction that is safe for that share alone (a
+  /// contact's vertex stopped at its own time of impact, the rest moving
+  /// on). Called at the saved iterate; the line search then asks
+  /// LargestSafeStep of the result as of any step. The default: δ as it is.
+  virtual void LimitStepPerDof(Span<real> /*delta*/) const {}
   /// A term with a target of its own within the stage (a kinematic
   /// obstacle's pose at the stage end): whether it is there. Newton
   /// converges only where every term is. While a term is short of its

@@ -108,6 +108,7 @@ def test_every_enum_value_is_bound():
     assert mochi.NewtonParams().constraint_hessian == mochi.ConstraintHessian.GeometricStiffness
     assert hasattr(mochi.SceneStats, "round_off_convergences")
     assert hasattr(mochi.SceneStats, "line_search_expansions")
+    assert hasattr(mochi.SceneStats, "limited_steps")
     assert hasattr(mochi.SceneStats, "second_order_corrections")
     assert hasattr(mochi.SceneStats, "diagonal_shifts")
     assert hasattr(mochi.SceneStats, "truncated_solves")

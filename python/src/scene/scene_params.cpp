@@ -125,6 +125,9 @@ void DefineSceneParams(py::module_& m) {
       .def_readonly("line_search_expansions", &T::lineSearchExpansions,
                     "last step: Newton iterations whose projected step the line search doubled "
                     "while the energy kept falling along a concave ray (near a saddle)")
+      .def_readonly("limited_steps", &T::limitedSteps,
+                    "last step: line searches that took the step limited per DoF share (contact "
+                    "vertices stopped at their own times of impact) over the step cut short")
       .def_readonly("diagonal_shifts", &T::diagonalShifts,
                     "last step: refactorizations of a projected Hessian that failed by round-off, "
                     "with its diagonal shifted")
