@@ -60,74 +60,102 @@ real StvkEnergyDensity(real mu, real lambdaPlaneStress, Matrix22 const& greenStr
   return mu * greenStrain.squaredNorm() + 0.5 * lambdaPlaneStress * trace * trace;
 }
 
-/// The membrane's state under the tension field (docs/deformables.md,
-/// "Membrane models"): E_G's principal strains e₁ ≥ e₂ and directions v₁, v₂
-/// (2×2 closed form), and which of the three states holds.
-struct TensionField {
-  enum State { Slack, Wrinkled, Taut } state = Taut;
-  real e1 = 0, e2 = 0;
-  Eigen::Matrix<real, 2, 1> v1, v2;
-  real a = 0, b = 0;  ///< s = [a b; b a] e in the taut state: a = 2μ + λ_s, b = λ_s
-
-  TensionField(real mu, real lambdaPlaneStress, Matrix22 const& e) : a(2 * mu + lambdaPlaneStress), b(lambdaPlaneStress) {
-    real const mean = 0.5 * (e(0, 0) + e(1, 1)), half = 0.5 * (e(0, 0) - e(1, 1));
-    real const radius = std::hypot(half, e(0, 1));
-    e1 = mean + radius;
-    e2 = mean - radius;
-    real const angle = 0.5 * std::atan2(e(0, 1), half);
-    v1 << std::cos(angle), std::sin(angle);
-    v2 << -v1(1), v1(0);
-    // taut while the lesser principal stress b e₁ + a e₂ is not compressive
-    // (then neither is the greater); wrinkled while only e₁ stretches
-    state = !(e1 > 0) ? Slack : b * e1 + a * e2 >= 0 ? Taut : Wrinkled;
+/// The membrane's stress at one Green strain E_G, for either model
+/// (docs/deformables.md, "Membrane models"): StVK is always taut; the
+/// tension field takes E_G's principal strains e₁ ≥ e₂ and directions v₁, v₂
+/// (2×2 closed form) and which of its three states holds, once per element
+/// evaluation.
+class MembraneStress {
+ public:
+  MembraneStress(MembraneModel model, real mu, real lambdaPlaneStress, Matrix22 const& greenStrain)
+      : mu_(mu), lambda_(lambdaPlaneStress), strain_(greenStrain) {
+    if (model == MembraneModel::TensionField) {
+      Matrix22 const& e = greenStrain;
+      real const mean = 0.5 * (e(0, 0) + e(1, 1)), half = 0.5 * (e(0, 0) - e(1, 1));
+      real const radius = std::hypot(half, e(0, 1));
+      e1_ = mean + radius;
+      e2_ = mean - radius;
+      real const angle = 0.5 * std::atan2(e(0, 1), half);
+      v1_ << std::cos(angle), std::sin(angle);
+      v2_ << -v1_(1), v1_(0);
+      // taut while the lesser principal stress b e₁ + a e₂ (a = 2μ + λ_s,
+      // b = λ_s) is not compressive (then neither is the greater); wrinkled
+      // while only e₁ stretches
+      real const a = 2 * mu + lambdaPlaneStress, b = lambdaPlaneStress;
+      uniaxial_ = (a * a - b * b) / a;  // Y: a strip free to narrow (E)
+      state_ = !(e1_ > 0) ? Slack : b * e1_ + a * e2_ >= 0 ? Taut : Wrinkled;
+    }
+    switch (state_) {
+      case Slack: s_.setZero(); break;
+      case Wrinkled: s_ = uniaxial_ * e1_ * v1_ * v1_.transpose(); break;
+      case Taut: s_ = SecondPiola(mu_, lambda_, strain_); break;
+    }
   }
-  /// Y = (a² − b²)/a: the plane-stress Young's modulus of a strip free to
-  /// contract sideways (E for this model's λ_s, μ)
-  real Uniaxial() const { return (a * a - b * b) / a; }
+
+  /// Ψ [J/m³]
+  real EnergyDensity() const {
+    switch (state_) {
+      case Slack: return 0;
+      case Wrinkled: return 0.5 * uniaxial_ * e1_ * e1_;
+      case Taut: break;
+    }
+    return StvkEnergyDensity(mu_, lambda_, strain_);
+  }
+  /// The second Piola–Kirchhoff stress S
+  Matrix22 const& Stress() const { return s_; }
+  /// dS along dE. Taut (StVK): linear. Wrinkled, S = Y e₁ v₁v₁ᵀ:
+  /// Y (v₁ᵀdE v₁) v₁v₁ᵀ plus the turn of v₁, (s₁ − s₂)/(e₁ − e₂)
+  /// (v₁ᵀdE v₂)(v₁v₂ᵀ + v₂v₁ᵀ), with e₁ − e₂ > e₁ > 0 there. Slack: 0.
+  Matrix22 Differential(Matrix22 const& dE) const {
+    switch (state_) {
+      case Slack: return Matrix22::Zero();
+      case Wrinkled: {
+        Matrix22 const v12 = v1_ * v2_.transpose();
+        real const turn = uniaxial_ * e1_ / (e1_ - e2_);
+        return uniaxial_ * v1_.dot(dE * v1_) * v1_ * v1_.transpose() + turn * v1_.dot(dE * v2_) * (v12 + v12.transpose());
+      }
+      case Taut: break;
+    }
+    return SecondPiola(mu_, lambda_, dE);
+  }
+
+ private:
+  enum State { Slack, Wrinkled, Taut } state_ = Taut;
+  real mu_, lambda_;
+  Matrix22 strain_, s_;
+  real e1_ = 0, e2_ = 0, uniaxial_ = 0;
+  Eigen::Matrix<real, 2, 1> v1_, v2_;
 };
 
-Matrix22 MembraneSecondPiola(MembraneModel model, real mu, real lambdaPlaneStress, Matrix22 const& greenStrain) {
-  if (model == MembraneModel::StVK) return SecondPiola(mu, lambdaPlaneStress, greenStrain);
-  TensionField const field(mu, lambdaPlaneStress, greenStrain);
-  switch (field.state) {
-    case TensionField::Slack: return Matrix22::Zero();
-    case TensionField::Wrinkled: return field.Uniaxial() * field.e1 * field.v1 * field.v1.transpose();
-    case TensionField::Taut: break;
-  }
-  return SecondPiola(mu, lambdaPlaneStress, greenStrain);
-}
+Matrix22 GreenStrain(Matrix32 const& f) { return 0.5 * (f.transpose() * f - Matrix22::Identity()); }
 
-real EnergyDensity(MembraneModel model, real mu, real lambdaPlaneStress, Matrix22 const& greenStrain) {
-  if (model == MembraneModel::StVK) return StvkEnergyDensity(mu, lambdaPlaneStress, greenStrain);
-  TensionField const field(mu, lambdaPlaneStress, greenStrain);
-  switch (field.state) {
-    case TensionField::Slack: return 0;
-    case TensionField::Wrinkled: return 0.5 * field.Uniaxial() * field.e1 * field.e1;
-    case TensionField::Taut: break;
-  }
-  return StvkEnergyDensity(mu, lambdaPlaneStress, greenStrain);
-}
-
-/// dS along dE (dS = ∂S/∂E : dE). StVK and the taut state: linear. The
-/// wrinkled state, S = Y e₁ v₁v₁ᵀ: dS = Y (v₁ᵀdE v₁) v₁v₁ᵀ plus the turn of
-/// v₁, (s₁ − s₂)/(e₁ − e₂) (v₁ᵀdE v₂)(v₁v₂ᵀ + v₂v₁ᵀ), with e₁ − e₂ > e₁ > 0
-/// there. The slack state: 0.
-Matrix22 StressDifferential(MembraneModel model, real mu, real lambdaPlaneStress, Matrix22 const& greenStrain,
-                            Matrix22 const& dE) {
-  if (model == MembraneModel::StVK) return SecondPiola(mu, lambdaPlaneStress, dE);
-  TensionField const field(mu, lambdaPlaneStress, greenStrain);
-  switch (field.state) {
-    case TensionField::Slack: return Matrix22::Zero();
-    case TensionField::Wrinkled: {
-      real const y = field.Uniaxial();
-      Matrix22 const v11 = field.v1 * field.v1.transpose();
-      Matrix22 const v12 = field.v1 * field.v2.transpose();
-      real const turn = y * field.e1 / (field.e1 - field.e2);
-      return y * field.v1.dot(dE * field.v1) * v11 + turn * field.v1.dot(dE * field.v2) * (v12 + v12.transpose());
+/// ∂²Ψ/∂F² = ∂vec P/∂vec F at F with the stress state there
+Matrix6 StressDerivative(MembraneStress const& stress, Matrix32 const& f) {
+  // column k = 3j + i of ∂vec P/∂vec F is vec(dP) for dF = e_i e_jᵀ:
+  //   dP = dF S + F dS,  dS = MembraneStress::Differential(dE),  dE = sym(Fᵀ dF)
+  Matrix6 a;
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 3; ++i) {
+      Matrix32 df = Matrix32::Zero();
+      df(i, j) = 1;
+      Matrix22 const ftdf = f.transpose() * df;
+      Matrix22 const dE = 0.5 * (ftdf + ftdf.transpose());
+      Matrix32 const dp = df * stress.Stress() + f * stress.Differential(dE);
+      a.col(3 * j + i) = dp.reshaped();
     }
-    case TensionField::Taut: break;
   }
-  return SecondPiola(mu, lambdaPlaneStress, dE);
+  // symmetric in exact arithmetic; make it so bit for bit
+  return 0.5 * (a + a.transpose());
+}
+
+/// `a` with its negative eigenvalues clamped to 0; `a` itself when none is
+Matrix6 ClampedToPsd(Matrix6 const& a) {
+  auto const eigen = ComputeSymmetricEigen(a);
+  auto const& values = eigen.values;
+  if (values.minCoeff() >= 0) return a;
+  Matrix6 const& q = eigen.vectors;
+  Matrix6 const projected = q * values.cwiseMax(0).asDiagonal() * q.transpose();
+  return 0.5 * (projected + projected.transpose());
 }
 
 }  // namespace
@@ -155,41 +183,18 @@ Eigen::Matrix<real, 3, 2> MembraneDeformationGradient(TriangleRestData const& re
 
 real MembraneEnergy(MembraneModel model, real mu, real lambdaPlaneStress, real thickness,
                     TriangleRestData const& rest, Vector9 const& x) {
-  Matrix32 const f = MembraneDeformationGradient(rest, x);
-  Matrix22 const greenStrain = 0.5 * (f.transpose() * f - Matrix22::Identity());
-  return thickness * rest.restArea * EnergyDensity(model, mu, lambdaPlaneStress, greenStrain);
+  Matrix22 const greenStrain = GreenStrain(MembraneDeformationGradient(rest, x));
+  return thickness * rest.restArea * MembraneStress(model, mu, lambdaPlaneStress, greenStrain).EnergyDensity();
 }
 
 Eigen::Matrix<real, 6, 6> MembraneStressDerivative(MembraneModel model, real mu, real lambdaPlaneStress,
                                                    Eigen::Matrix<real, 3, 2> const& f) {
-  Matrix22 const greenStrain = 0.5 * (f.transpose() * f - Matrix22::Identity());
-  Matrix22 const s = MembraneSecondPiola(model, mu, lambdaPlaneStress, greenStrain);
-  // column k = 3j + i of ∂vec P/∂vec F is vec(dP) for dF = e_i e_jᵀ:
-  //   dP = dF S + F dS,  dS = StressDifferential(dE),  dE = sym(Fᵀ dF)
-  Matrix6 a;
-  for (int j = 0; j < 2; ++j) {
-    for (int i = 0; i < 3; ++i) {
-      Matrix32 df = Matrix32::Zero();
-      df(i, j) = 1;
-      Matrix22 const ftdf = f.transpose() * df;
-      Matrix22 const dE = 0.5 * (ftdf + ftdf.transpose());
-      Matrix32 const dp = df * s + f * StressDifferential(model, mu, lambdaPlaneStress, greenStrain, dE);
-      a.col(3 * j + i) = dp.reshaped();
-    }
-  }
-  // symmetric in exact arithmetic; make it so bit for bit
-  return 0.5 * (a + a.transpose());
+  return StressDerivative(MembraneStress(model, mu, lambdaPlaneStress, GreenStrain(f)), f);
 }
 
 Eigen::Matrix<real, 6, 6> MembraneProjectedStressDerivative(MembraneModel model, real mu, real lambdaPlaneStress,
                                                             Eigen::Matrix<real, 3, 2> const& f) {
-  Matrix6 const a = MembraneStressDerivative(model, mu, lambdaPlaneStress, f);
-  auto const eigen = ComputeSymmetricEigen(a);
-  auto const& values = eigen.values;
-  if (values.minCoeff() >= 0) return a;
-  Matrix6 const& q = eigen.vectors;
-  Matrix6 const projected = q * values.cwiseMax(0).asDiagonal() * q.transpose();
-  return 0.5 * (projected + projected.transpose());
+  return ClampedToPsd(MembraneStressDerivative(model, mu, lambdaPlaneStress, f));
 }
 
 real MembraneEnergyGradientHessian(MembraneModel model, real mu, real lambdaPlaneStress, real thickness,
@@ -197,11 +202,11 @@ real MembraneEnergyGradientHessian(MembraneModel model, real mu, real lambdaPlan
                                    Vector9& gradient, Matrix9& hessian, bool project) {
   Matrix22 const& b = rest.restShapeInverse;
   Matrix32 const f = MembraneDeformationGradient(rest, x);
-  Matrix22 const greenStrain = 0.5 * (f.transpose() * f - Matrix22::Identity());
+  MembraneStress const stress(model, mu, lambdaPlaneStress, GreenStrain(f));
   real const scale = thickness * rest.restArea;  // h·A
 
   // gradient: ∂E/∂D_s = h A P Bᵀ with P = F S; node 0 takes minus the sum
-  Matrix32 const p = f * MembraneSecondPiola(model, mu, lambdaPlaneStress, greenStrain);
+  Matrix32 const p = f * stress.Stress();
   Matrix32 const forces = scale * p * b.transpose();
   gradient.segment<3>(3) = forces.col(0);
   gradient.segment<3>(6) = forces.col(1);
@@ -218,13 +223,12 @@ real MembraneEnergyGradientHessian(MembraneModel model, real mu, real lambdaPlan
     for (int j = 0; j < 2; ++j)
       for (int i = 0; i < 3; ++i) g(3 * j + i, 3 * node + i) = shapeGradients(node, j);
 
-  Matrix6 const stressDerivative = project
-                                       ? MembraneProjectedStressDerivative(model, mu, lambdaPlaneStress, f)
-                                       : MembraneStressDerivative(model, mu, lambdaPlaneStress, f);
+  Matrix6 const exact = StressDerivative(stress, f);
+  Matrix6 const stressDerivative = project ? ClampedToPsd(exact) : exact;
   hessian.noalias() = scale * (g.transpose() * stressDerivative * g);
   hessian = 0.5 * (hessian + hessian.transpose()).eval();
 
-  return scale * EnergyDensity(model, mu, lambdaPlaneStress, greenStrain);
+  return scale * stress.EnergyDensity();
 }
 
 // ----------------------------------------------------------------- bending

@@ -1435,7 +1435,16 @@ real ContactSystem::SelfSafeStep(int c, real alpha) const {
   return alpha;
 }
 
-real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
+int ContactSystem::NodeDof(int c, int i) const {
+  Collider const& col = *colliders_[c];
+  return col.nodal_->GetDofOffset() + col.nodal_->GetNodeDofStride() * col.local_[i - firstVertex_[c]].node;
+}
+
+real ContactSystem::BoundRoom(int i) const {
+  return std::max(bound_[i] - (x_[i] - boundCenter_[i]).norm(), real(0));
+}
+
+void ContactSystem::StepDisplacements(Span<real const> delta) const {
   UpdatePositions(x_);
   // each vertex's displacement along δ: exact for nodes (linear in α); a
   // rigid body's vertices move on arcs, bounded by the chord's rate for the
@@ -1457,22 +1466,23 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
       for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) displacement_[i] = dt + dr.cross(x_[i] - center);
     } else if (col.nodal_) {
       Real33 const r = col.nodal_->GetTransformRotation().toRotationMatrix();
-      int const o = col.nodal_->GetDofOffset(), stride = col.nodal_->GetNodeDofStride();
       for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) {
-        int const dof = o + stride * col.local_[i - firstVertex_[c]].node;
+        int const dof = NodeDof(static_cast<int>(c), i);
         displacement_[i] = r * Real3(delta[dof], delta[dof + 1], delta[dof + 2]);
       }
     }
   }
   KinematicDisplacements();
+}
+
+real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
+  StepDisplacements(delta);
   real safe = alpha;
   // the stage's displacement bound of every body's vertex
   for (std::size_t c = 0; c < colliders_.size(); ++c)
     for (int i = firstVertex_[c]; i < firstVertex_[c + 1] && colliders_[c]->Moves(); ++i) {
-    real const step = displacement_[i].norm();
-    if (step == 0) continue;
-    real const room = bound_[i] - (x_[i] - boundCenter_[i]).norm();
-    safe = std::min(safe, std::max(room, real(0)) / step);
+      real const step = displacement_[i].norm();
+      if (step > 0) safe = std::min(safe, BoundRoom(i) / step);
     }
   // the self-contact bound: each vertex's displacement relative to its
   // body's mean displacement
@@ -1486,40 +1496,27 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
 }
 
 void ContactSystem::LimitStepPerDof(Span<real> delta) const {
-  UpdatePositions(x_);
-  // the nodal vertices' displacements along δ and the room their bounds leave
+  // each vertex's own fraction: the room its bound leaves, then the time of
+  // impact of each of its linear pairs along δ
+  StepDisplacements(delta);
   vertexFraction_.assign(x_.size(), 1);
-  for (std::size_t c = 0; c < colliders_.size(); ++c) {
-    Collider const& col = *colliders_[c];
-    for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) displacement_[i].setZero();
-    if (!col.nodal_) continue;
-    Real33 const r = col.nodal_->GetTransformRotation().toRotationMatrix();
-    int const o = col.nodal_->GetDofOffset(), stride = col.nodal_->GetNodeDofStride();
-    for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) {
-      int const dof = o + stride * col.local_[i - firstVertex_[c]].node;
-      displacement_[i] = r * Real3(delta[dof], delta[dof + 1], delta[dof + 2]);
+  for (std::size_t c = 0; c < colliders_.size(); ++c)
+    for (int i = firstVertex_[c]; i < firstVertex_[c + 1] && colliders_[c]->nodal_; ++i) {
       real const step = displacement_[i].norm();
-      if (step > 0)
-        vertexFraction_[i] = std::min(real(1), std::max(bound_[i] - (x_[i] - boundCenter_[i]).norm(), real(0)) / step);
+      if (step > 0) vertexFraction_[i] = std::min(real(1), BoundRoom(i) / step);
     }
-  }
-  KinematicDisplacements();
-  // each linear pair's time of impact along δ, for each of its vertices
   for (Pair const& pair : pairs_) {
     if (colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid()) continue;
     real const fraction = LinearPairCcd(pair, x_, 1);
     if (fraction >= 1) continue;
     for (int k = 0; k < pair.numVertices; ++k) vertexFraction_[pair.v[k]] = std::min(vertexFraction_[pair.v[k]], fraction);
   }
-  for (std::size_t c = 0; c < colliders_.size(); ++c) {
-    Collider const& col = *colliders_[c];
-    if (!col.nodal_) continue;
-    int const o = col.nodal_->GetDofOffset(), stride = col.nodal_->GetNodeDofStride();
-    for (int i = firstVertex_[c]; i < firstVertex_[c + 1]; ++i) {
-      int const dof = o + stride * col.local_[i - firstVertex_[c]].node;
+  // the nodal vertices' shares of δ scaled by them
+  for (std::size_t c = 0; c < colliders_.size(); ++c)
+    for (int i = firstVertex_[c]; i < firstVertex_[c + 1] && colliders_[c]->nodal_; ++i) {
+      int const dof = NodeDof(static_cast<int>(c), i);
       for (int k = 0; k < 3; ++k) delta[dof + k] *= vertexFraction_[i];
     }
-  }
 }
 
 bool ContactSystem::RecenterStepBounds() {

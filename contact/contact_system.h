@@ -309,6 +309,14 @@ class ContactSystem final : public StageTerm {
   /// displacement_ of the moving obstacles' vertices and planeShift_ over
   /// the rest of their way this stage (zero once there).
   void KinematicDisplacements() const;
+  /// displacement_ of every vertex along δ (after UpdatePositions), the
+  /// obstacles' kinematic travel included: LargestSafeStep's and
+  /// LimitStepPerDof's start
+  void StepDisplacements(Span<real const> delta) const;
+  /// The first DoF of nodal collider c's vertex i (its node's x)
+  int NodeDof(int c, int i) const;
+  /// How far vertex i may still move within its displacement bound (>= 0)
+  real BoundRoom(int i) const;
   /// A kinematic side's displacement of its material point y0 (at the
   /// stage start) since the stage start.
   static Real3 KinematicDisplacement(Collider const& c, Real3 const& y0);

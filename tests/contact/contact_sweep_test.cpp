@@ -101,8 +101,8 @@ TEST_CASE("contact sweep: a cloth folding onto itself", "[contact][sweep][long][
   Sweep("cloth fold", [](SceneParams p) { return ClothFoldScene(p); });
 }
 
-// Measured at the commit that added it: 6.07, 3.82, 2.79 Newton iterations per step at dt =
-// 1/30, 1/60, 1/120 (before the line search's per-DoF limited step 8.87 at 1/30: this fails).
+// Measured: 6.09, 3.82, 2.80 Newton iterations per step at dt = 1/30, 1/60,
+// 1/120 (before the line search's per-DoF limited step 8.87 at 1/30: this fails).
 TEST_CASE("contact sweep: a 12 x 12 cloth folding onto itself", "[contact][sweep][long]") {
   Sweep("cloth fold 12", [](SceneParams p) { return ClothFoldScene(p, 12); });
 }
