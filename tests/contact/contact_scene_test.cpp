@@ -4,7 +4,7 @@
 // bodies' own geometry (corners against the plane, nodes against the plate),
 // not through the barrier's distance.
 #include "contact/contact_scenes.h"
-#include "contact/intersection.h"
+#include "scenes/interpenetration.h"
 #include "test_scenes.h"
 
 #include <cmath>
@@ -639,7 +639,7 @@ TEST_CASE("a failed step leaves a kinematic obstacle where it was, its target pe
 
 TEST_CASE("the exact check's point-triangle distance: the library's on random triangles, finite on a sliver",
           "[contact][check]") {
-  // the independent check (tests/contact/intersection.h) against the
+  // the independent check (scenes/interpenetration.h) against the
   // library's classified distance: they agree to 1e-12 of the O(1) scale on
   // random triangles and points near them
   std::mt19937 rng(5);

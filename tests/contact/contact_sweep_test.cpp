@@ -1,12 +1,12 @@
 // Every contact scene of docs/contact.md at dt = 1/30, 1/60 and 1/120 with
 // the default ContactParams: each step succeeds, Newton takes at most 8
 // iterations per step on average, and no two colliders interpenetrate at any
-// step end — checked by tests/contact/intersection.h's exact test on the
+// step end — checked by scenes/interpenetration.h's exact test on the
 // colliders' geometry, not by the barrier's distance. Prints a row per scene
 // and dt (steps, Newton iterations per step, smallest gap, seconds) for the
 // table of docs/contact.md.
 #include "contact/contact_scenes.h"
-#include "contact/intersection.h"
+#include "scenes/interpenetration.h"
 
 #include <chrono>
 #include <cstdio>
@@ -30,7 +30,7 @@ void Sweep(std::string const& name, std::function<ContactScene(SceneParams)> con
     real minGap = std::numeric_limits<real>::infinity();
     auto const start = std::chrono::steady_clock::now();
     for (int s = 0; s < steps; ++s) {
-      if (scene.drive) scene.drive(static_cast<real>(s) / rate);
+      Drive(scene, static_cast<real>(s) / rate);
       Error error;
       bool const stepped = scene.scene->Step(1.0 / rate, error);
       INFO(name << " at dt = 1/" << rate << ", step " << s << ": " << error.ToString());

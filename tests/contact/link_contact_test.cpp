@@ -5,7 +5,7 @@
 // a 5-link arm driven by targets pushes a box across the ground. Also the
 // nodal pairs' exact Hessian (every pair kind) against central differences.
 #include "contact/contact_scenes.h"
-#include "contact/intersection.h"
+#include "scenes/interpenetration.h"
 #include "test_scenes.h"
 #include "white_box.h"
 

@@ -8,7 +8,7 @@
 // crashes or throws; a call that fails sets an Error and leaves the scene
 // bit-identical (bodies, obstacle poses, time, counts); and after every
 // successful step no two colliders interpenetrate (the exact test of
-// tests/contact/intersection.h).
+// scenes/interpenetration.h).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,7 +16,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "contact/intersection.h"
+#include "scenes/interpenetration.h"
 #include "fuzz_support.h"
 
 using namespace superdex;
@@ -299,7 +299,7 @@ class Driver {
                        rigid->GetPosition().z());
       });
     // never through each other
-    test::InterpenetrationCheck check(scene_->GetParams().contact.activationDistance);
+    scenes::InterpenetrationCheck check(scene_->GetParams().contact.activationDistance);
     std::string const found = check.Find(*scene_);
     Expect(found.empty(), "a step left colliders interpenetrating:", found);
     return true;

@@ -25,7 +25,7 @@
 
 #include <superdex/superdex.h>
 
-namespace superdex::test {
+namespace superdex::scenes {
 
 class InterpenetrationCheck {
  public:
@@ -356,4 +356,4 @@ class InterpenetrationCheck {
   DynamicArray<Shape> rest_, now_;
 };
 
-}  // namespace superdex::test
+}  // namespace superdex::scenes

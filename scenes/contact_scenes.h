@@ -1,0 +1,170 @@
+// The contact scenes of docs/contact.md, built once for everyone who runs
+// them: the tests (tests/contact: their physics at one time step, every scene
+// at dt = 1/30, 1/60 and 1/120), the perf harness's contact families
+// (perf/harness) and the fuzz target. Not part of the installed library: the
+// builders use only its public API (<superdex/superdex.h>).
+//
+// Every builder reports a failure as the library does: the scene is null and
+// `error` says which call failed and why. Builder chains the calls: after
+// its first failure every call does nothing and returns null, so a scene is
+// written without a check after each line.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <memory>
+
+#include <superdex/superdex.h>
+
+namespace superdex::scenes {
+
+inline constexpr real kGravity = 9.81;
+
+/// Adds actors, colliders and constraints to a scene, keeping the first error.
+class Builder {
+ public:
+  /// Creates the scene (Scene::Create).
+  explicit Builder(SceneParams const& params);
+  /// Adds to an existing scene.
+  explicit Builder(Scene& scene) : scene_(&scene) {}
+
+  bool Ok() const { return ok_; }
+  Error const& GetError() const { return error_; }
+  Scene* GetScene() { return ok_ ? scene_ : nullptr; }
+  /// The scene's d̂ (ContactParams::activationDistance) [m].
+  real ActivationDistance() const;
+  /// The created scene (null after a failure, or when adding to another's).
+  std::unique_ptr<Scene> TakeScene() { return ok_ ? std::move(owned_) : nullptr; }
+
+  Collider* AddCollider(ColliderParams const& params);
+  /// The plane y = 0, friction μ.
+  Collider* AddGround(real friction = 0.5);
+  RigidActor* AddRigid(RigidActorParams const& params);
+  /// A rigid box of `half` extents and `mass` (its inertia a solid box's)
+  /// with its Box collider.
+  RigidActor* AddRigidBox(Real3 const& position, Quat const& rotation, Real3 const& half, real mass,
+                          real friction = 0.5);
+  DeformableActor* AddDeformable(DeformableActorParams const& params);
+  RodActor* AddRod(RodActorParams const& params);
+  ArticulatedActor* AddArticulated(ArticulatedActorParams const& params);
+  Constraint* AddArticulatedTarget(ArticulatedSingleDofTargetConstraintParams const& params);
+  /// The Surface collider of a deformable or rod actor; without self contact
+  /// its own group is left out of its mask.
+  Collider* AddSurface(Actor const* actor, bool selfContact = true);
+  /// A tet box mesh (MakeTetBox) as the nodes and tetrahedra of `params`.
+  bool MakeBox(Real3 const& lower, Real3 const& size, std::array<int, 3> const& cells, DeformableActorParams& params);
+  /// A square cloth of n × n nodes, `size` m wide, in the x–z plane at
+  /// height y centred on the y axis, turned by `rotation` about its centre:
+  /// the perf harness's cloth (hinge bending, E = 1e6 Pa, ν = 0.3, h = 1 mm,
+  /// 300 kg/m³), with its self contact; its membrane the tension field (a
+  /// cloth pressed into folds wrinkles; with StVK the compressed membrane's
+  /// saddles cost Newton far more iterations, docs/contact.md "Measured").
+  DeformableActor* AddCloth(int n, real size, real y, Quat const& rotation,
+                            MembraneModel membrane = MembraneModel::TensionField);
+
+ private:
+  /// Records the first failure; false.
+  bool Fail(Error const& error);
+  template <class T>
+  T* Check(T* created, Error const& error) {
+    if (!created) Fail(error);
+    return created;
+  }
+
+  std::unique_ptr<Scene> owned_;
+  Scene* scene_ = nullptr;
+  bool ok_ = true;
+  Error error_;
+};
+
+/// A tetrahedral ball: the tets of a cells³ grid box whose centroids are
+/// within `radius` of the centre, nodes renumbered; false and `error` for a
+/// bad size.
+bool TetBall(Real3 const& center, real radius, int cells, DeformableActorParams& ball, Error& error);
+
+/// A contact scene and how long it runs [s].
+struct ContactScene {
+  std::unique_ptr<Scene> scene;  ///< null when the build failed
+  real seconds = 1;
+  /// Called before each step with the time at its start [s] (targets that
+  /// drive the scene; false and `error` when a target is refused); none:
+  /// nothing to drive.
+  std::function<bool(real, Error&)> drive;
+};
+
+/// The scene built by `builder` (null, and its error in `error`, after a failure).
+ContactScene Finish(Builder& builder, real seconds, Error& error);
+
+/// 1. A 0.2 m rigid box (1 kg) at rest on a plane incline of slope tan θ,
+/// μ = 0.5 (it sticks at tan θ = 0.49), started 0.5 d̂ above it.
+ContactScene InclineScene(SceneParams params, real tanTheta, Error& error);
+/// 2. A solid sphere (r = 0.1 m) rolling from rest down a 15° incline.
+ContactScene RollingScene(SceneParams params, Error& error);
+/// 3. An undamped Neo-Hookean tet ball (r = 0.1 m, E = 1e5 Pa, 1000 kg/m³,
+/// `cells` across) dropped from `drop` m onto the ground; without self
+/// contact (a solid ball does not fold onto itself).
+ContactScene BallDropScene(SceneParams params, real drop, int cells, Error& error);
+// Each scene: XScene builds it in a scene of its own; AddX adds it to a
+// builder's scene (the harness's, whose parameters it sets) and returns its
+// bodies.
+
+/// 4a. A stack of `count` 0.2 m rigid boxes (1 kg), each started 0.9 d̂
+/// above the one below (near where the barrier carries them: started at
+/// 0.5 d̂ the barrier's stored energy launches them, docs/contact.md).
+ContactScene BoxStackScene(SceneParams params, int count, Error& error);
+DynamicArray<RigidActor*> AddBoxStack(Builder& builder, int count);
+/// 4b. A stack of `count` tet cubes (0.1 m, cells³ cells of 6 tets, E = 1e6
+/// Pa, 1000 kg/m³), each started 0.9 d̂ above the one below.
+ContactScene CubeStackScene(SceneParams params, int count, int cells, Error& error);
+DynamicArray<DeformableActor*> AddCubeStack(Builder& builder, int count, int cells);
+/// 5a. An n × n cloth (0.6 m) dropped from 5 cm above a static sphere
+/// (r = 0.2 m) resting on the ground: it drapes over it and folds.
+ContactScene ClothOnSphereScene(SceneParams params, int n, Error& error);
+DeformableActor* AddClothOnSphere(Builder& builder, int n);
+/// 5b. A cloth (n × n, 0.4 m) falling edge-first, tilted 80° from the
+/// ground: it lands, buckles and folds onto itself.
+ContactScene ClothFoldScene(SceneParams params, int n, Error& error);
+/// 6. A rod of `n` nodes (r = 4 mm, E = 1e7 Pa) in a helix of radius 5 cm,
+/// three turns rising 2 cm each, dropped onto the ground: the upper turns
+/// pile onto the lower.
+ContactScene RodCoilScene(SceneParams params, int n, Error& error);
+/// 6b. `rods` straight rods of `nodes` nodes (0.5 m, r = 4 mm, E = 1e7 Pa,
+/// 1000 kg/m³) dropped into a bin (a 0.6 m square floor, static walls 0.3 m
+/// high) in layers 2 cm apart, 10 rods 3 cm apart per layer, each layer
+/// turned 100° from the one below: they fall, cross and pile. Rod against
+/// rod, the walls and the floor; no self contact within a rod (a straight
+/// rod does not fold onto itself in the second the scene runs).
+ContactScene RodPileScene(SceneParams params, int rods, int nodes, Error& error);
+DynamicArray<RodActor*> AddRodPile(Builder& builder, int rods, int nodes);
+
+/// 7. A 0.1 m rigid box at 20 m/s onto a static 5 mm plate.
+ContactScene FastBoxScene(SceneParams params, Error& error);
+
+/// 8. A 5-link arm pushes a 1 kg, 0.2 m rigid box across the ground (μ =
+/// 0.3): a carriage (link 0, prismatic along x, 0.55 m up) from which four
+/// 0.1 m links hang on revolute joints about z, each with a capsule collider
+/// (r = 15 mm) along its axis. Targets drive it: the carriage's position
+/// moves at `speed` (it starts 0.15 m behind the box's face), the hanging
+/// joints are held at 0 (stiffness 100 N·m/rad); the lowest capsule meets
+/// the box's side.
+struct ArmPush {
+  ArticulatedActor* arm = nullptr;
+  RigidActor* box = nullptr;
+  Constraint* carriage = nullptr;
+  real speed = 0.3;  ///< of the carriage's target [m/s]
+  real start = 0;    ///< the carriage's target at t = 0 [m]
+};
+
+inline constexpr real kArmLink = 0.1;      ///< hanging link length [m]
+inline constexpr real kArmRadius = 0.015;  ///< capsule radius [m]
+
+/// The arm with its carriage at `carriage` [m].
+ArticulatedActorParams ArmParams(real carriage);
+/// The capsule of hanging link `link` (1..4): along the link's −y, between
+/// 10 mm and 90 mm below its joint.
+ColliderParams ArmCapsule(ArticulatedActor const& arm, int link);
+/// The ground, the box and the arm with its targets, added by `builder`.
+ArmPush AddArmPush(Builder& builder, real speed);
+ContactScene ArmPushScene(SceneParams params, Error& error);
+
+}  // namespace superdex::scenes
