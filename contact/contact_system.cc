@@ -14,6 +14,7 @@
 #include <superdex/contact/ccd.h>
 #include <superdex/contact/distance.h>
 #include <superdex/core/so3.h>
+#include <superdex/core/stopwatch.h>
 #include <superdex/core/validate.h>
 
 namespace superdex {
@@ -640,6 +641,7 @@ void ContactSystem::UpdatePositions(DynamicArray<Real3>& x) const {
 // ---- candidates ----
 
 void ContactSystem::BeginStage(StageContext const& stage) {
+  ScopedSeconds timer(times_.broadPhase);
   // the kinematic obstacles' share of their step's motion: from where they
   // are to the pose at the stage's end (reached by AdvanceTarget)
   progress_ = 1;
@@ -1183,11 +1185,13 @@ void ContactSystem::AppendStageContributorDofs(StageDofLists& dofLists) const {
 }
 
 void ContactSystem::AddEnergy(HessianAssembler const&, int, EnergySum& sum) const {
+  ScopedSeconds timer(times_.narrowPhase);
   UpdatePositions(x_);
   for (Pair const& pair : pairs_) sum.Add(PairBarrier(pair, false).value + PairFriction(pair, x_).energy);
 }
 
 void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, AssemblyOptions const& options) const {
+  ScopedSeconds timer(times_.assembly);
   UpdatePositions(x_);
   // at most 2 kMaxLinkPathDofs: two links (a rigid side has 6 DoFs, a
   // nodal triangle 9)
@@ -1476,6 +1480,7 @@ void ContactSystem::StepDisplacements(Span<real const> delta) const {
 }
 
 real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
+  ScopedSeconds timer(times_.ccd);
   StepDisplacements(delta);
   real safe = alpha;
   // the stage's displacement bound of every body's vertex
@@ -1496,6 +1501,7 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
 }
 
 void ContactSystem::LimitStepPerDof(Span<real> delta) const {
+  ScopedSeconds timer(times_.ccd);
   // each vertex's own fraction: the room its bound leaves, then the time of
   // impact of each of its linear pairs along δ
   StepDisplacements(delta);
@@ -1520,6 +1526,7 @@ void ContactSystem::LimitStepPerDof(Span<real> delta) const {
 }
 
 bool ContactSystem::RecenterStepBounds() {
+  ScopedSeconds timer(times_.broadPhase);
   UpdatePositions(x_);
   constexpr real kUsed = 0.9;  // of a bound, before the region is found again
   bool nearEdge = false;
@@ -1561,6 +1568,7 @@ bool ContactSystem::RecenterStepBounds() {
 }
 
 bool ContactSystem::AcceptsFirstIterate() const {
+  ScopedSeconds timer(times_.ccd);
   // the move from the stage start to the first iterate, as a linear step
   // (the obstacles where they were at the stage start)
   UpdatePositions(x_);

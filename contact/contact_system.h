@@ -198,6 +198,13 @@ class ContactSystem final : public StageTerm {
 
   void GetContacts(DynamicArray<ContactInfo>& contacts) const;
   int GetNumCandidates() const { return static_cast<int>(pairs_.size()); }
+  /// The seconds spent in each phase since the last ResetTimes (SceneStats'
+  /// contact*Seconds).
+  struct PhaseTimes {
+    double broadPhase = 0, narrowPhase = 0, ccd = 0, assembly = 0;
+  };
+  PhaseTimes const& GetTimes() const { return times_; }
+  void ResetTimes() { times_ = {}; }
   int GetNumActive() const { return active_; }
   real GetMinDistance() const { return minDistance_; }
 
@@ -373,6 +380,7 @@ class ContactSystem final : public StageTerm {
   DynamicArray<std::pair<std::uint64_t, int>> keptKeys_;  ///< their keys, sorted, and indices
   DynamicArray<char> keptFound_;  ///< per kept pair: found again
   DynamicArray<real> bound_;             ///< per vertex displacement bound for the stage [m]
+  mutable PhaseTimes times_;
   DynamicArray<real> selfBound_;         ///< per collider: bound relative to its mean (self contact) [m]
   ObstacleTrees selfTrees_;
   DynamicArray<Pair> pairs_;

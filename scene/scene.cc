@@ -402,6 +402,7 @@ bool Scene::Step(real dt, Error& error) {
   stats_.nearRigidConstraints = 0;
   stats_.stageContributors = 0;
   stats_.contactRecenterings = 0;
+  contact_.ResetTimes();
   stats_.analysisSeconds = stats_.assemblySeconds = stats_.factorizationSeconds = 0;
   stats_.orderingSeconds = stats_.patternSeconds = stats_.slotTableSeconds = stats_.symbolicSeconds = 0;
   stats_.solveSeconds = stats_.lineSearchSeconds = 0;
@@ -457,6 +458,11 @@ bool Scene::Step(real dt, Error& error) {
     ok = AdvanceSubsteps(dt, substeps, historyStep, failedSubstep, stageError);
   }
   stats_.substeps = substeps;
+  internal::ContactSystem::PhaseTimes const& contactTimes = contact_.GetTimes();
+  stats_.contactBroadPhaseSeconds = contactTimes.broadPhase;
+  stats_.contactNarrowPhaseSeconds = contactTimes.narrowPhase;
+  stats_.contactCcdSeconds = contactTimes.ccd;
+  stats_.contactAssemblySeconds = contactTimes.assembly;
   if (!ok) {
     RestorePreStepState();
     if (substeps > 1) SaveOrRestoreSubstepState(/*save=*/false);

@@ -101,6 +101,19 @@ struct SceneStats {
   /// because an iterate came near the edge of the stage's displacement
   /// bound (docs/contact.md, "The candidates").
   int contactRecenterings = 0;
+  /// The contact system's share of the last step [s] (docs/contact.md,
+  /// "Costs"): the broad phase (the stage's bounds, bounding-volume trees
+  /// and candidate pairs, found again by a recentering), the narrow phase
+  /// (the candidates' distances, barrier and friction energy, at every
+  /// line-search trial), continuous collision detection (the safe step, the
+  /// limited step, the first iterate's check) and the contact assembly (the
+  /// candidates' gradient and Hessian blocks). The narrow phase and CCD run
+  /// mostly within lineSearchSeconds (also at a stage's start and after a
+  /// recentering), the contact assembly within assemblySeconds.
+  double contactBroadPhaseSeconds = 0;
+  double contactNarrowPhaseSeconds = 0;
+  double contactCcdSeconds = 0;
+  double contactAssemblySeconds = 0;
   // time of each phase of the last step [s]
   double analysisSeconds = 0;        ///< pattern build + symbolic analysis
   // ... analysisSeconds split: the block graph and its ordering (METIS), the

@@ -703,4 +703,16 @@ TEST_CASE("a cloth landing edge first outruns its stage's self bound: the candid
   }
   CHECK(recentered > 0);
   CHECK(scene.scene->GetStats().activeContacts > 0);
+  // the contact phases of the landing step: each ran, they are parts of the
+  // step, and the contact assembly is part of the assembly (docs/contact.md,
+  // "Costs")
+  SceneStats const& stats = scene.scene->GetStats();
+  CHECK(stats.contactBroadPhaseSeconds > 0);
+  CHECK(stats.contactNarrowPhaseSeconds > 0);
+  CHECK(stats.contactCcdSeconds > 0);
+  CHECK(stats.contactAssemblySeconds > 0);
+  CHECK(stats.contactAssemblySeconds <= stats.assemblySeconds);
+  CHECK(stats.contactBroadPhaseSeconds + stats.contactNarrowPhaseSeconds + stats.contactCcdSeconds +
+            stats.contactAssemblySeconds <=
+        stats.stepSeconds);
 }

@@ -43,6 +43,12 @@ def test_a_box_falls_and_rests_on_the_ground():
     assert stats.contact_pattern_builds == 0  # obstacle contacts fit the analysed pattern
     assert stats.contact_recenterings == 0  # a box at rest stays well within its bounds
     assert stats.pattern_builds == 1
+    # the contact phases of the last step: each ran, they are parts of the
+    # step, and the contact assembly is part of the assembly
+    phases = (stats.contact_broad_phase_seconds, stats.contact_narrow_phase_seconds,
+              stats.contact_ccd_seconds, stats.contact_assembly_seconds)
+    assert all(t > 0 for t in phases) and sum(phases) <= stats.step_seconds
+    assert stats.contact_assembly_seconds <= stats.assembly_seconds
     contacts = scene.get_contacts()
     assert len(contacts) == stats.active_contacts
     # at rest the contacts carry the weight, m g = 19.62 N, along +y

@@ -168,6 +168,14 @@ void DefineSceneParams(py::module_& m) {
                     "pattern rebuilds the contact pairs caused, since creation")
       .def_readonly("contact_recenterings", &T::contactRecenterings,
                     "candidate searches again within the last step's stages (an iterate near its bound)")
+      .def_readonly("contact_broad_phase_seconds", &T::contactBroadPhaseSeconds,
+                    "last step: the contact bounds, trees and candidate pairs [s]")
+      .def_readonly("contact_narrow_phase_seconds", &T::contactNarrowPhaseSeconds,
+                    "last step: the candidates' distances, barrier and friction energy [s]")
+      .def_readonly("contact_ccd_seconds", &T::contactCcdSeconds,
+                    "last step: continuous collision detection (safe and limited steps) [s]")
+      .def_readonly("contact_assembly_seconds", &T::contactAssemblySeconds,
+                    "last step: the candidates' gradient and Hessian blocks [s]")
       .def_readonly("analysis_seconds", &T::analysisSeconds,
                     "pattern build + symbolic analysis [s]")
       .def_readonly("ordering_seconds", &T::orderingSeconds,
