@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "run.h"
+#include "scenes/contact_scenes.h"
 
 namespace superdex::perf {
 namespace {
@@ -92,6 +93,8 @@ constexpr real kPlateMass = 1, kPlateThickness = 0.01;
 constexpr real kPlateAnchorStiffness = 1e9;
 
 constexpr real kPoisson = 0.3;
+// The contact families' barrier stiffness at ratio 1: ContactParams' default.
+constexpr real kBarrierStiffness = ContactParams{}.stiffness;
 constexpr int kDefaultNewtonMaxIterations = 50;
 
 /// `count` positive integers separated by `separator` ("40x8x8"), after
@@ -371,6 +374,73 @@ bool BuildArticulatedChainDense(Cells const& cells, double /*ratio*/, FamilyScen
   return BuildArticulatedChainSolvedBy(ArticulatedBlockSolve::Dense, cells, out, error);
 }
 
+// ---- the contact families: scenes/contact_scenes.h ----
+// Each is built into the harness's scene (its solver, integrator and Newton
+// settings) with the default ContactParams, κ times the stiffness ratio.
+
+/// The tracked points: every node of the actors, in order.
+template <class Actors>
+std::function<DynamicArray<Real3>()> NodesOf(Actors const& actors) {
+  return [actors] {
+    DynamicArray<Real3> points;
+    for (auto const* actor : actors)
+      for (Real3 const& p : actor->GetNodePositions()) points.push_back(p);
+    return points;
+  };
+}
+
+/// The scene's bodies added by `add`, or false and the builder's error.
+bool Added(scenes::Builder const& builder, Error& error) {
+  if (!builder.Ok()) error = builder.GetError();
+  return builder.Ok();
+}
+
+bool BuildContactCloth(Cells const& cells, double, FamilyScene& out, Error& error) {
+  if (cells[0] != cells[1]) {
+    error.Set(ErrorCode::InvalidArgument, "contact-cloth: the cloth is square (size NxN)");
+    return false;
+  }
+  scenes::Builder b(*out.scene);
+  DeformableActor* cloth = scenes::AddClothOnSphere(b, cells[0]);
+  out.length = 0.6;
+  out.trackedPositions = NodesOf(std::array{cloth});
+  return Added(b, error);
+}
+
+bool BuildContactSolids(Cells const& cells, double, FamilyScene& out, Error& error) {
+  scenes::Builder b(*out.scene);
+  auto const cubes = scenes::AddCubeStack(b, cells[0], cells[1]);
+  out.length = 0.1 * cells[0];
+  out.trackedPositions = NodesOf(cubes);
+  out.restingPoints = out.trackedPositions;
+  return Added(b, error);
+}
+
+bool BuildContactRigid(Cells const& cells, double, FamilyScene& out, Error& error) {
+  scenes::Builder b(*out.scene);
+  auto const boxes = scenes::AddBoxStack(b, cells[0]);
+  out.length = 0.2 * cells[0];
+  out.trackedPositions = [boxes] {
+    DynamicArray<Real3> centres;
+    for (RigidActor const* box : boxes) centres.push_back(box->GetPosition());
+    return centres;
+  };
+  out.restingPoints = out.trackedPositions;
+  return Added(b, error);
+}
+
+bool BuildContactRods(Cells const& cells, double, FamilyScene& out, Error& error) {
+  if (cells[1] < 2) {
+    error.Set(ErrorCode::InvalidArgument, "contact-rods: a rod needs at least 2 nodes (size RxN)");
+    return false;
+  }
+  scenes::Builder b(*out.scene);
+  auto const rods = scenes::AddRodPile(b, cells[0], cells[1]);
+  out.length = 0.5;
+  out.trackedPositions = NodesOf(rods);
+  return Added(b, error);
+}
+
 struct Family {
   std::string_view name;
   std::string_view sizePrefix;  ///< before the counts: "N=" for the chain
@@ -381,9 +451,10 @@ struct Family {
   int newtonMaxIterations;
   int (*dofs)(Cells const&);
   bool (*build)(Cells const&, double, FamilyScene&, Error&);
+  bool contact = false;  ///< the stiffness ratio scales the barrier's κ
 };
 
-std::array<Family, 6> const kFamilies{{
+std::array<Family, 10> const kFamilies{{
     {"cantilever", "", 3, "40x8x8", "E", kBeamYoung, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return 3 * (c[0] + 1) * (c[1] + 1) * (c[2] + 1); }, BuildCantilever},
     {"cloth", "", 2, "32x32", "E", kClothYoung, kClothNewtonMaxIterations,
@@ -396,6 +467,14 @@ std::array<Family, 6> const kFamilies{{
      [](Cells const& c) { return 3 * c[0]; }, BuildArticulatedChain},
     {"chain-articulated-dense", "N=", 1, "N=50", "k", 0, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return 3 * c[0]; }, BuildArticulatedChainDense},
+    {"contact-cloth", "", 2, "32x32", "kappa", kBarrierStiffness, kDefaultNewtonMaxIterations,
+     [](Cells const& c) { return 3 * c[0] * c[1]; }, BuildContactCloth, true},
+    {"contact-solids", "", 2, "5x2", "kappa", kBarrierStiffness, kDefaultNewtonMaxIterations,
+     [](Cells const& c) { return 3 * c[0] * (c[1] + 1) * (c[1] + 1) * (c[1] + 1); }, BuildContactSolids, true},
+    {"contact-rigid", "N=", 1, "N=5", "kappa", kBarrierStiffness, kDefaultNewtonMaxIterations,
+     [](Cells const& c) { return RigidActor::kNumDofs * c[0]; }, BuildContactRigid, true},
+    {"contact-rods", "", 2, "20x50", "kappa", kBarrierStiffness, kDefaultNewtonMaxIterations,
+     [](Cells const& c) { return 4 * c[0] * c[1]; }, BuildContactRods, true},
 }};
 
 Family const* FindFamily(std::string_view name) {
@@ -409,7 +488,9 @@ Family const* Resolve(std::string const& family, std::string const& size, Cells&
                       std::string& message) {
   Family const* f = FindFamily(family);
   if (!f) {
-    message = "unknown family '" + family + "' (cantilever, cloth, chain, rods, chain-articulated, chain-articulated-dense)";
+    std::string names;
+    for (Family const& known : kFamilies) names += (names.empty() ? "" : ", ") + std::string(known.name);
+    message = "unknown family '" + family + "' (" + names + ")";
     return nullptr;
   }
   if (!ParseCounts(size, f->sizePrefix, 'x', f->numCounts, cells)) {
@@ -425,6 +506,11 @@ Family const* Resolve(std::string const& family, std::string const& size, Cells&
 std::vector<std::string_view> const& FamilyNames() {
   static std::vector<std::string_view> const names = FieldOf(kFamilies, &Family::name);
   return names;
+}
+
+bool IsContactFamily(std::string_view family) {
+  Family const* f = FindFamily(family);
+  return f && f->contact;
 }
 
 int CountDofs(std::string const& family, std::string const& size, std::string& message) {
@@ -458,7 +544,9 @@ bool BuildFamilyScene(std::string const& family, std::string const& size, double
     error.Set(ErrorCode::InvalidArgument, "stiffness ratio must be finite and > 0");
     return false;
   }
-  out.scene = Scene::Create(params, error);
+  SceneParams scaled = params;
+  if (f->contact) scaled.contact.stiffness *= stiffnessRatio;
+  out.scene = Scene::Create(scaled, error);
   return out.scene && f->build(cells, stiffnessRatio, out, error);
 }
 

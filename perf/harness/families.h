@@ -10,6 +10,14 @@
 //               spherical joints), size "N=50" (links)
 //   rods        R discrete elastic rods of N nodes, 1 m, clamped to an
 //               anchored rigid plate, size "RxN" (DoFs 4·R·N + 6)
+//   contact-cloth   an N × N cloth (0.6 m) dropped on a sphere: it drapes
+//               and folds onto itself, size "NxN" (nodes)
+//   contact-solids  a stack of K tet cubes of C³ cells, size "KxC"
+//   contact-rigid   a stack of N rigid boxes, size "N=5"
+//   contact-rods    R rods of N nodes dropped into a bin, size "RxN"
+// The contact families are scenes/contact_scenes.h's; their stiffness ratio
+// multiplies the barrier stiffness κ (ContactParams::stiffness), not a
+// material's.
 //
 // The parameters of each family are documented in families.cc and in
 // perf/harness/README.md.
@@ -43,7 +51,14 @@ struct FamilyScene {
   /// The scale of energy_gain: total mass · g · L, more than the links can
   /// ever release falling from rest [J].
   real energyScale = 0;
+  /// Contact families only: the bodies that come to rest and should then
+  /// stay put — their points, whose drift over the run's second half is the
+  /// creep column (empty: nothing should stick).
+  std::function<DynamicArray<Real3>()> restingPoints;
 };
+
+/// Whether `family` is a contact family (its runs fill the contact columns).
+bool IsContactFamily(std::string_view family);
 
 /// The family names, in display order.
 std::vector<std::string_view> const& FamilyNames();

@@ -241,6 +241,12 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Scaling("chain-articulated-dense", {"N=5"}, {"cholmod"}, 2, "scaling", {"1"}, chainDt);
     for (std::string family : {"chain", "chain-articulated"})
       b.LongRun(family, {"N=5"}, {"1/100"}, 0.1);
+    // the contact families at their smallest (4 steps: the stacks touch from
+    // the first, the cloth and the rods are still falling)
+    b.Scaling("contact-cloth", {"6x6"}, {"cholmod"}, 4);
+    b.Scaling("contact-solids", {"2x1"}, {"cholmod"}, 4);
+    b.Scaling("contact-rigid", {"N=2"}, {"cholmod"}, 4);
+    b.Scaling("contact-rods", {"2x10"}, {"cholmod"}, 4);
     return true;
   }
   Labels const quickMethods{"cholmod",      "cholmod-amd", "dense",    "pcg-jacobi",

@@ -17,6 +17,7 @@
 #include <superdex/core/mpi.h>
 
 #include "families.h"
+#include "scenes/interpenetration.h"
 
 namespace superdex::perf {
 
@@ -303,8 +304,10 @@ std::array<std::string_view, kNumColumns> const kColumnNames{
     "end_time", "newton_iterations", "linear_iterations", "linear_solves", "truncated_solves", "factorizations", "reused_solves", "near_rigid_capped", "pattern_builds",
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
     "ordering_s", "pattern_s", "slot_tables_s", "symbolic_s", "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
-    "steady_per_step_s", "total_s", "ranks", "owned_dofs", "peak_rss_mb", "scene_rss_mb", "error", "reference", "joint_drift", "energy_gain", "state_hash", "status",
-    "reason"};
+    "steady_per_step_s", "total_s", "ranks", "owned_dofs", "peak_rss_mb", "scene_rss_mb", "error", "reference", "joint_drift", "energy_gain", "state_hash",
+    "contact_candidates", "active_contacts", "min_contact_distance", "contact_pattern_builds", "broad_phase_s", "narrow_phase_s", "ccd_s", "contact_assembly_s",
+    "penetration_checks", "interpenetrations", "min_gap", "creep_um_per_s",
+    "status", "reason"};
 // clang-format on
 
 bool IsNumericColumn(int column) {
@@ -497,6 +500,96 @@ class MechanismWatch {
   FamilyScene const& fs_;
   real initialEnergy_ = 0, drift_ = 0, gain_ = -INFINITY;
   int updates_ = 0;
+};
+
+/// The contact columns (contact families only): the contact system's
+/// figures of every step (the most candidates and active contacts, the
+/// smallest barrier distance, the phase times summed), the exact
+/// interpenetration test of scenes/interpenetration.h at step ends (outside
+/// the timed step; brute force over primitive pairs, so on large scenes only
+/// every few steps, and always at the last), and the creep: the largest
+/// drift of the family's resting points over the run's second half.
+class ContactWatch {
+ public:
+  ContactWatch(FamilyScene const& fs, std::string_view family, int steps, double dt)
+      : fs_(fs), on_(IsContactFamily(family)), steps_(steps), dt_(dt),
+        check_(fs.scene->GetParams().contact.activationDistance) {
+    if (!on_) return;
+    // one check costs ~P² primitive pairs (P: every collider's triangles,
+    // edges and vertices); at most ~2e7 per step on average
+    double primitives = 0;
+    for (int id = 0, found = 0; found < fs.scene->GetNumColliders(); ++id)  // (ids may have gaps)
+      if (Collider const* c = fs.scene->GetCollider(id)) {
+        primitives += c->GetNumTriangles() + c->GetEdges().size() + c->GetNumVertices();
+        ++found;
+      }
+    stride_ = std::max(1, static_cast<int>(std::ceil(primitives * primitives / 2e7)));
+  }
+
+  /// After step `done` (1-based).
+  void Update(int done) {
+    if (!on_) return;
+    SceneStats const& s = fs_.scene->GetStats();
+    candidates_ = std::max(candidates_, s.contactCandidates);
+    active_ = std::max(active_, s.activeContacts);
+    minDistance_ = std::min(minDistance_, s.minContactDistance);
+    broad_ += s.contactBroadPhaseSeconds;
+    narrow_ += s.contactNarrowPhaseSeconds;
+    ccd_ += s.contactCcdSeconds;
+    assembly_ += s.contactAssemblySeconds;
+    if (done % stride_ == 0 || done == steps_) {
+      ++checks_;
+      std::string const found = check_.Find(*fs_.scene);
+      minGap_ = std::min(minGap_, check_.GetMinGap());
+      if (!found.empty() && interpenetrations_++ == 0)
+        firstFound_ = "interpenetration after step " + std::to_string(done) + ": " + found;
+    }
+    if (fs_.restingPoints && done == steps_ / 2) {
+      halfway_ = fs_.restingPoints();
+      halfwayStep_ = done;
+    }
+    if (fs_.restingPoints && done == steps_ && halfwayStep_ > 0 && done > halfwayStep_) {
+      DynamicArray<Real3> const now = fs_.restingPoints();
+      real drift = 0;
+      for (std::size_t i = 0; i < now.size() && i < halfway_.size(); ++i)
+        drift = std::max(drift, (now[i] - halfway_[i]).norm());
+      creep_ = drift / ((done - halfwayStep_) * dt_);
+    }
+  }
+
+  /// The columns; an interpenetration makes the run fail (a wrong answer).
+  void Fill(Row& row) const {
+    if (!on_) return;
+    row[kContactCandidates] = Cell(candidates_);
+    row[kActiveContacts] = Cell(active_);
+    if (std::isfinite(minDistance_)) row[kMinContactDistance] = Cell(minDistance_);
+    row[kContactPatternBuilds] = Cell(fs_.scene->GetStats().contactPatternBuilds);
+    row[kBroadPhaseS] = Cell(broad_);
+    row[kNarrowPhaseS] = Cell(narrow_);
+    row[kCcdS] = Cell(ccd_);
+    row[kContactAssemblyS] = Cell(assembly_);
+    row[kPenetrationChecks] = Cell(checks_);
+    row[kInterpenetrations] = Cell(interpenetrations_);
+    if (std::isfinite(minGap_)) row[kMinGap] = Cell(minGap_);
+    if (creep_ >= 0) row[kCreepUmPerS] = Cell(creep_ * 1e6);
+    if (interpenetrations_ > 0) {
+      row[kStatus] = "failed";
+      row[kReason] = OneLine(firstFound_);
+    }
+  }
+
+ private:
+  FamilyScene const& fs_;
+  bool on_;
+  int steps_;
+  double dt_;
+  scenes::InterpenetrationCheck check_;
+  int stride_ = 1;
+  int candidates_ = 0, active_ = 0, checks_ = 0, interpenetrations_ = 0, halfwayStep_ = 0;
+  real minDistance_ = std::numeric_limits<real>::infinity(), minGap_ = std::numeric_limits<real>::infinity();
+  double broad_ = 0, narrow_ = 0, ccd_ = 0, assembly_ = 0, creep_ = -1;
+  DynamicArray<Real3> halfway_;
+  std::string firstFound_;
 };
 
 /// Compares with (or writes) the reference; sets the error column, or a
@@ -700,16 +793,19 @@ Row ExecuteRun(RunSpec const& spec) {
 
   Totals totals;
   MechanismWatch watch(fs);
+  ContactWatch contact(fs, spec.family, spec.steps, dt);
   int done = 0;
   bool ok = true;
   for (; done < spec.steps; ++done) {
     if (!(ok = fs.scene->Step(dt, error))) break;
     totals.Add(fs.scene->GetStats());
     watch.Update();
+    contact.Update(done + 1);
   }
   FillMeasured(row, totals, done, fs.scene->GetStats());
   row[kOwnedDofs] = Cell(fs.scene->GetStats().ownedDofs);
   watch.Fill(row);
+  contact.Fill(row);
   row[kStateHash] = HashState(*fs.scene);
   if (!ok) return finish("failed", Reason(error, "step " + std::to_string(done + 1)));
   HandleReference(spec, fs, row);

@@ -118,6 +118,8 @@ enum Column : int {
   kNewtonIterations, kLinearIterations, kLinearSolves, kTruncatedSolves, kFactorizations, kReusedSolves, kNearRigidCapped, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
   kNnzH, kNnzL, kFactorFlops, kAnalysisS, kOrderingS, kPatternS, kSlotTablesS, kSymbolicS, kAssemblyS, kFactorizationS, kSolveS, kLineSearchS,
   kOtherS, kWallPerStepS, kSteadyPerStepS, kTotalS, kRanks, kOwnedDofs, kPeakRssMb, kSceneRssMb, kError, kReference, kJointDrift, kEnergyGain, kStateHash,
+  kContactCandidates, kActiveContacts, kMinContactDistance, kContactPatternBuilds, kBroadPhaseS, kNarrowPhaseS, kCcdS, kContactAssemblyS,
+  kPenetrationChecks, kInterpenetrations, kMinGap, kCreepUmPerS,
   kStatus, kReason, kNumColumns
 };
 // clang-format on

@@ -16,11 +16,16 @@ COLUMNS = (
     "newton_tol constraint_hessian near_rigid integrator dt steps end_time newton_iterations linear_iterations "
     "linear_solves truncated_solves factorizations reused_solves near_rigid_capped pattern_builds symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops analysis_s "
     "ordering_s pattern_s slot_tables_s symbolic_s assembly_s factorization_s solve_s line_search_s other_s wall_per_step_s steady_per_step_s total_s "
-    "ranks owned_dofs peak_rss_mb scene_rss_mb error reference joint_drift energy_gain state_hash status reason"
+    "ranks owned_dofs peak_rss_mb scene_rss_mb error reference joint_drift energy_gain state_hash "
+    "contact_candidates active_contacts min_contact_distance contact_pattern_builds broad_phase_s narrow_phase_s "
+    "ccd_s contact_assembly_s penetration_checks interpenetrations min_gap creep_um_per_s status reason"
 ).split()
 STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference", "long_run")
 # every family of the harness (perf/harness/families.cc) has scaling runs in the tiny suite
-FAMILIES = ("cantilever", "cloth", "chain", "rods", "chain-articulated", "chain-articulated-dense")
+FAMILIES = ("cantilever", "cloth", "chain", "rods", "chain-articulated", "chain-articulated-dense",
+            "contact-cloth", "contact-solids", "contact-rigid", "contact-rods")
+CONTACT_FAMILIES = tuple(f for f in FAMILIES if f.startswith("contact-"))
+CONTACT_TIMES = ("broad_phase_s", "narrow_phase_s", "ccd_s", "contact_assembly_s")
 CHARTS = ("scaling.png", "phases.png", "work_precision_cantilever.png", "stability_cantilever.png",
           "chain.png")
 # joint drift [m]: the articulated chain's joints are exact (drift at round-off
@@ -82,6 +87,23 @@ def main():
             fail(f"rigid chain joint drift {drift} m in {r['study']} {r['size']}: implausibly small")
         if not gain <= 1e-6:
             fail(f"{r['family']} {r['size']} gained energy: {gain}")
+    # the contact families carry the contact columns: the exact test ran
+    # (at the last step at least) and found nothing, the phase times are
+    # parts of the step, and a scene with bodies at rest reports its creep
+    for r in rows:
+        if r["family"] not in CONTACT_FAMILIES or r["status"] != "ok":
+            continue
+        if not (int(r["penetration_checks"]) >= 1 and int(r["interpenetrations"]) == 0):
+            fail(f"{r['family']} {r['size']}: exact interpenetration test not run or failed: {r}")
+        times = [float(r[c]) for c in CONTACT_TIMES]
+        if not all(t >= 0 for t in times) or not sum(times) <= float(r["wall_per_step_s"]) * int(r["steps"]):
+            fail(f"{r['family']} {r['size']}: contact phase times {times} not within the steps' time")
+        if not int(r["contact_candidates"]) >= 0 or (r["family"] in ("contact-rigid", "contact-solids")
+                                                     and r["creep_um_per_s"] == ""):
+            fail(f"{r['family']} {r['size']}: contact figures missing: {r}")
+    for r in rows:
+        if r["family"] not in CONTACT_FAMILIES and any(r[c] for c in CONTACT_TIMES):
+            fail(f"{r['family']} {r['size']} has contact columns")
     for family in ("chain", "chain-articulated"):
         if not any(r["study"] == "long_run" and r["family"] == family for r in rows):
             fail(f"no long_run row of family '{family}'")
