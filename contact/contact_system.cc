@@ -374,6 +374,7 @@ bool ContactSystem::CheckSeparated(int index, std::string const& what, Error& er
   PrepareVertices();
   bound_.assign(x_.size(), 0);
   selfBound_.assign(colliders_.size(), 0);
+  vertexSelfBound_.assign(x_.size(), 0);
   pairs_.clear();
   ++treeStamp_;
   for (int other = 0; other < static_cast<int>(colliders_.size()); ++other) {
@@ -688,30 +689,34 @@ void ContactSystem::BeginStage(StageContext const& stage) {
   }
   // self contact: only a body's deformation brings its primitives together,
   // so each vertex's bound there is on its displacement relative to the
-  // body's mean displacement: its largest velocity relative to the mean
-  // velocity over the stage, plus d̂ (a falling ball's surface does not
-  // reach across the ball). Once, not twice like the obstacle bound: a
-  // stage that needs more finds its candidates again (RecenterStepBounds),
-  // and a cloth's self candidates grow with the bound's cube (a 12 × 12
-  // cloth folding at dt = 1/30: 3.5 times fewer, half the time, the same
-  // Newton iterations)
+  // body's mean displacement: its velocity relative to the mean velocity
+  // over the stage, plus d̂ (a falling ball's surface does not reach across
+  // the ball). Once, not twice like the obstacle bound: a stage that needs
+  // more finds its candidates again (RecenterStepBounds), and a cloth's self
+  // candidates grow with the bound's cube (a 12 × 12 cloth folding at dt =
+  // 1/30: 3.5 times fewer, half the time, the same Newton iterations). Per
+  // vertex, not the body's largest: a cloth draped on a sphere whose edges
+  // still swing at 3 m/s keeps its resting middle's bounds small (24 × 24
+  // nodes at dt = 1/60: docs/contact.md "Costs")
   selfBound_.assign(colliders_.size(), 0);
+  vertexSelfBound_.assign(x_.size(), 0);
   for (int c = 0; c < static_cast<int>(colliders_.size()); ++c) {
     if (!MayTouch(c, c)) continue;
     NodalActor const& nodal = *colliders_[c]->nodal_;
-    int const count = firstVertex_[c + 1] - firstVertex_[c];
+    int const first = firstVertex_[c], count = firstVertex_[c + 1] - first;
     Real3 mean = Real3::Zero();
     for (int i = 0; i < count; ++i) mean += nodal.GetNodeVelocity(colliders_[c]->local_[i].node) / count;
-    real spread = 0, fastest = 0;
     for (int i = 0; i < count; ++i) {
       Real3 const v = nodal.GetNodeVelocity(colliders_[c]->local_[i].node);
-      spread = std::max(spread, (v - mean).norm());
-      fastest = std::max(fastest, v.norm());
+      // an impact stops part of a body within the stage: a vertex's motion
+      // relative to the mean can then reach its own speed or the mean's (it
+      // stops, or the rest of the body does). Half of that was 1.5 times
+      // faster on the 16 × 16 and 24 × 24 cloths on the sphere, but Newton
+      // failed on the 32 × 32 one landing at dt = 1/60
+      real const speed = std::max({(v - mean).norm(), v.norm(), mean.norm()});
+      vertexSelfBound_[first + i] = speed * h + params_.activationDistance;
+      selfBound_[c] = std::max(selfBound_[c], vertexSelfBound_[first + i]);
     }
-    // an impact stops part of a body within the stage: its relative motion
-    // can then reach the speed of its fastest vertex (half of it each way
-    // from the mean)
-    selfBound_[c] = std::max(spread, 0.5 * fastest) * h + params_.activationDistance;
   }
   ++treeStamp_;
   FindPairs();
@@ -792,21 +797,39 @@ ContactSystem::ObstacleTrees const& ContactSystem::TreesOf(int obstacleIndex) {
   return *trees;
 }
 
+contact::Aabb ContactSystem::SelfBox(std::initializer_list<int> vertices, real margin) const {
+  real bound = 0;
+  for (int i : vertices) bound = std::max(bound, vertexSelfBound_[i]);
+  return BoxOf(x_, vertices, margin + bound);
+}
+
+real ContactSystem::SelfReach(Pair const& pair) const {
+  // the pair's two sides: the point and the triangle, the two edges, the
+  // point and the edge, the two points
+  int const split = pair.kind == PairKind::EdgeEdge ? 2 : 1;
+  real first = 0, second = 0;
+  for (int k = 0; k < pair.numVertices; ++k) {
+    real& side = k < split ? first : second;
+    side = std::max(side, vertexSelfBound_[pair.v[k]]);
+  }
+  return first + second;
+}
+
 ContactSystem::ObstacleTrees const& ContactSystem::SelfTrees(int index) {
-  // a body's primitives for its self contact: boxes inflated by its self bound
+  // a body's primitives for its self contact: boxes inflated by the self
+  // bounds of their vertices
   Collider const& o = *colliders_[index];
   int const f = firstVertex_[index];
-  real const margin = selfBound_[index];
   DynamicArray<contact::Aabb>& boxes = treeBoxScratch_;
   Error ignored;  // the boxes are finite: the positions are
   boxes.clear();
-  for (auto const& t : o.triangles_) boxes.push_back(BoxOf(x_, {f + t[0], f + t[1], f + t[2]}, margin));
+  for (auto const& t : o.triangles_) boxes.push_back(SelfBox({f + t[0], f + t[1], f + t[2]}, 0));
   selfTrees_.triangles.Build(boxes, ignored);
   boxes.clear();
-  for (auto const& e : o.edges_) boxes.push_back(BoxOf(x_, {f + e[0], f + e[1]}, margin));
+  for (auto const& e : o.edges_) boxes.push_back(SelfBox({f + e[0], f + e[1]}, 0));
   selfTrees_.edges.Build(boxes, ignored);
   boxes.clear();
-  for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) boxes.push_back(BoxOf(x_, {f + i}, margin));
+  for (int i = 0; i < static_cast<int>(o.local_.size()); ++i) boxes.push_back(SelfBox({f + i}, 0));
   selfTrees_.vertices.Build(boxes, ignored);
   return selfTrees_;
 }
@@ -826,10 +849,10 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   real const thickness = body.thickness_ + obstacle.thickness_;
   real const mu = std::sqrt(body.friction_ * obstacle.friction_);
   bool const self = bodyIndex == obstacleIndex;
-  // a self pair's primitives move at most their self bound each relative to
-  // the body's mean: one whose gap exceeds twice that plus d̂ cannot reach d̂
-  // this stage (the boxes below are coarser: a flat cloth's neighbours)
-  real const selfReach = self ? 2 * selfBound_[bodyIndex] + dhat : 0;
+  // a self pair's primitives move at most their vertices' self bounds
+  // relative to the body's mean: one whose gap exceeds both sides' largest
+  // plus d̂ cannot reach d̂ this stage (the boxes below are coarser: a flat
+  // cloth's neighbours)
   auto add = [&](PairKind kind, std::array<int, 4> v, std::array<bool, 4> onBody, int count, real weight) {
     if (!(weight > 0)) return;
     // self contact: never between primitives that share a vertex or that are
@@ -847,7 +870,7 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
     pair.weight = weight;
     pair.mu = mu;
     pair.key = PairKey(static_cast<int>(kind), body.id_, obstacle.id_, v);
-    if (self && Gap(pair, x_, nullptr) > selfReach) return;
+    if (self && Gap(pair, x_, nullptr) > SelfReach(pair) + dhat) return;
     if (kind == PairKind::EdgeEdge)
       pair.mollifierThreshold = contact::EdgeEdgeMollifierThreshold(x_[v[0]], x_[v[1]], x_[v[2]], x_[v[3]]);
     pairs_.push_back(pair);
@@ -873,15 +896,14 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   }
   // the body's primitives over the stage: their start boxes inflated by the
   // displacement bound, d̂ and the thickness, against the obstacle's trees
-  real const reach = self ? selfBound_[bodyIndex] : bound_[fb];
-  real const margin = dhat + thickness + reach;
+  real const margin = dhat + thickness + (self ? 0 : bound_[fb]);
   ObstacleTrees const& trees = self ? SelfTrees(bodyIndex) : TreesOf(obstacleIndex);
   DynamicArray<contact::Aabb>& boxes = boxScratch_;
   DynamicArray<contact::IndexPair>& found = pairScratch_;
   // body vertices against obstacle triangles, and free body vertices against
   // free obstacle points (spheres) and segments (capsules)
   boxes.clear();
-  for (int i = 0; i < nb; ++i) boxes.push_back(BoxOf(x_, {fb + i}, margin));
+  for (int i = 0; i < nb; ++i) boxes.push_back(self ? SelfBox({fb + i}, margin) : BoxOf(x_, {fb + i}, margin));
   trees.triangles.FindPairsWith(boxes, found);
   for (auto [t, i] : found) {
     auto const& tri = obstacle.triangles_[t];
@@ -901,7 +923,7 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   if (self) {
     // the loops below would find the same pairs again, from the other side
     boxes.clear();
-    for (auto const& e : body.edges_) boxes.push_back(BoxOf(x_, {fb + e[0], fb + e[1]}, margin));
+    for (auto const& e : body.edges_) boxes.push_back(SelfBox({fb + e[0], fb + e[1]}, margin));
     trees.edges.FindPairsWith(boxes, found);
     for (auto [f, e] : found)
       if (e < f)
@@ -1433,7 +1455,7 @@ real ContactSystem::SelfSafeStep(int c, real alpha) const {
   for (int i = first; i < first + count; ++i) {
     real const rate = (displacement_[i] - step).norm();
     if (rate == 0) continue;
-    real const room = selfBound_[c] - (x_[i] - boundCenter_[i] - moved).norm();
+    real const room = vertexSelfBound_[i] - (x_[i] - boundCenter_[i] - moved).norm();
     alpha = std::min(alpha, std::max(room, real(0)) / rate);
   }
   return alpha;
@@ -1540,7 +1562,7 @@ bool ContactSystem::RecenterStepBounds() {
     }
     if (selfBound_[c] > 0)
       for (int i = first; i < first + count; ++i)
-        nearEdge = nearEdge || (x_[i] - boundCenter_[i] - moved).norm() > kUsed * selfBound_[c];
+        nearEdge = nearEdge || (x_[i] - boundCenter_[i] - moved).norm() > kUsed * vertexSelfBound_[i];
   }
   if (!nearEdge) return false;
   boundCenter_ = x_;
@@ -1584,7 +1606,7 @@ bool ContactSystem::AcceptsFirstIterate() const {
     Real3 mean = Real3::Zero();
     for (int i = first; i < first + count; ++i) mean += displacement_[i] / count;
     for (int i = first; i < first + count; ++i)
-      if ((displacement_[i] - mean).norm() > selfBound_[c]) return false;
+      if ((displacement_[i] - mean).norm() > vertexSelfBound_[i]) return false;
   }
   return std::all_of(pairs_.begin(), pairs_.end(),
                      [&](Pair const& pair) { return LinearPairCcd(pair, x0_, 1) >= 1; });

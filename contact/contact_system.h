@@ -24,6 +24,7 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <utility>
 
@@ -331,6 +332,11 @@ class ContactSystem final : public StageTerm {
   ObstacleTrees const& TreesOf(int obstacleIndex);
   /// A body's trees for its self contact (this stage, inflated by its self bound).
   ObstacleTrees const& SelfTrees(int index);
+  /// The box of `vertices` inflated by `margin` and their largest self bound.
+  contact::Aabb SelfBox(std::initializer_list<int> vertices, real margin) const;
+  /// How far a self pair's gap can close this stage: the largest self bound
+  /// of each of its two sides, added.
+  real SelfReach(Pair const& pair) const;
   /// The largest α' <= alpha that keeps collider c's vertices within its
   /// self bound of its mean displacement (x_ + α' displacement_).
   real SelfSafeStep(int c, real alpha) const;
@@ -381,7 +387,9 @@ class ContactSystem final : public StageTerm {
   DynamicArray<char> keptFound_;  ///< per kept pair: found again
   DynamicArray<real> bound_;             ///< per vertex displacement bound for the stage [m]
   mutable PhaseTimes times_;
-  DynamicArray<real> selfBound_;         ///< per collider: bound relative to its mean (self contact) [m]
+  /// per collider: the largest of its vertices' self bounds (0: no self contact) [m]
+  DynamicArray<real> selfBound_;
+  DynamicArray<real> vertexSelfBound_;  ///< per vertex: bound relative to its body's mean (self contact) [m]
   ObstacleTrees selfTrees_;
   DynamicArray<Pair> pairs_;
   DynamicArray<std::unique_ptr<ObstacleTrees>> trees_;  ///< per collider (obstacles only)
