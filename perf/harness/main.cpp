@@ -125,6 +125,20 @@ class SuiteBuilder {
       }
   }
 
+  /// The pattern policies side by side (study `pattern_policy`): one CHOLMOD
+  /// run per size with the contact pairs reserved in the pattern (the
+  /// default) and one that rebuilds the pattern whenever they change.
+  void PatternPolicies(std::string const& family, Strings const& sizes, int steps) {
+    for (std::string const& size : sizes)
+      for (std::string policy : {"reserve", "rebuild"}) {
+        RunSpec spec = Base("pattern_policy", family, size, "1");
+        spec.method = "cholmod";
+        spec.steps = steps;
+        spec.patternPolicy = policy;
+        Add(spec);
+      }
+  }
+
   /// Stability map: stiffness ratio × dt × method, `steps` steps each, PCG
   /// capped at `pcgMaxIterations` so that failures show; `nearRigid` > 0
   /// runs the map with the near-rigid cap β (--near-rigid; its own panels).
@@ -223,6 +237,30 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.WorkPrecision("rods", "16x100", dts, 0.2, methods, bothIntegrators);
   };
 
+  // The contact families (README.md: the contact families): CHOLMOD, 0.75 s
+  // of the cloth landing on the sphere and 1 s of the others at dt = 1/60;
+  // the pattern policies side by side; the stability map of dt × barrier
+  // stiffness κ (ratio of the default 1e4 Pa). The full suite adds the large
+  // sizes.
+  auto const contactRuns = [&](bool full) {
+    Labels const cholmod{"cholmod"};
+    b.Scaling("contact-cloth", {"12x12", "16x16", "24x24"}, cholmod, 45);
+    b.Scaling("contact-solids", {"5x2", "5x4", "5x6"}, cholmod, 60);
+    b.Scaling("contact-rigid", {"N=5", "N=10"}, cholmod, 60);
+    b.Scaling("contact-rods", {"10x25", "20x50", "50x50"}, cholmod, 60);
+    b.PatternPolicies("contact-cloth", {"16x16"}, 45);
+    b.PatternPolicies("contact-rods", {"20x50"}, 60);
+    Strings const kappa{"0.01", "1", "100"}, contactDts{"1/120", "1/60", "1/30"};
+    b.Stability("contact-rigid", "N=5", kappa, contactDts, cholmod, 30, 200);
+    b.Stability("contact-cloth", "12x12", kappa, contactDts, cholmod, 30, 200);
+    if (!full) return;
+    b.Scaling("contact-cloth", {"32x32", "48x48"}, cholmod, 45);
+    b.Scaling("contact-solids", {"5x10", "5x18"}, cholmod, 30);
+    b.Scaling("contact-rods", {"100x100", "200x100"}, cholmod, 30);
+    b.PatternPolicies("contact-cloth", {"32x32"}, 45);
+    b.PatternPolicies("contact-solids", {"5x18"}, 30);
+  };
+
   if (name == "tiny") {
     // the ctest smoke test: every family, study and code path in seconds
     Labels const methods{"cholmod", "pcg-jacobi", "pcg-gamg"};
@@ -247,6 +285,7 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Scaling("contact-solids", {"2x1"}, {"cholmod"}, 4);
     b.Scaling("contact-rigid", {"N=2"}, {"cholmod"}, 4);
     b.Scaling("contact-rods", {"2x10"}, {"cholmod"}, 4);
+    b.PatternPolicies("contact-rigid", {"N=2"}, 4);
     return true;
   }
   Labels const quickMethods{"cholmod",      "cholmod-amd", "dense",    "pcg-jacobi",
@@ -281,6 +320,7 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Stability("chain-articulated", "N=50", {"1"}, chainStabilityDts, stabilityMethods, 3, 200);
     for (std::string family : {"chain", "chain-articulated"})
       b.LongRun(family, {"N=2", "N=10", "N=50"}, chainLongDts, chainLongEnd);
+    contactRuns(false);
     return true;
   }
   if (name == "full") {
@@ -350,6 +390,7 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Stability("rods", "16x50", stabilityRatios, stabilityDts,
                 {"cholmod", "pcg-jacobi", "pcg-gamg", "pcg-hypre"}, 3, 200);
     solverWorkPrecision();
+    contactRuns(true);
     return true;
   }
   if (name == "work_precision") {
@@ -476,8 +517,7 @@ void PrintHelp() {
       "[--dry-run]\n"
       "      runs a suite, one child process per run; writes DIR/results.csv, DIR/results.json,\n"
       "      DIR/ref/ (reference positions) and DIR/logs/ (output of runs that printed any).\n"
-      "      --only F[,F...]  only the runs of these families (cantilever, cloth, chain, rods,\n"
-      "                       chain-articulated, chain-articulated-dense)\n"
+      "      --only F[,F...]  only the runs of these families (below)\n"
       "      --timeout S      per-run limit in seconds (default 600; tiny: 60)\n"
       "      --dry-run        list the runs without running them\n"
       "      Exit status 1 when a run outside the stability and long-run studies failed.\n"
@@ -490,6 +530,8 @@ void PrintHelp() {
   std::printf("      %-18s %-8s %s\n", "--format", "csv|json", "output format (default csv)");
   std::printf("      %-18s %-8s %s\n", "--result-fd", "N",
               "write only the CSV row to fd N (the suite's child)");
+  std::printf("\n  families:");
+  for (std::string_view f : FamilyNames()) std::printf(" %s", std::string(f).c_str());
   std::printf("\n  methods:");
   for (std::string_view m : MethodLabels()) std::printf(" %s", std::string(m).c_str());
   std::printf("\n  dense only up to %d DoFs; pcg-hypre needs PETSc with hypre.\n", kDenseMaxDofs);

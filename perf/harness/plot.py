@@ -36,6 +36,11 @@ Output (into OUT_DIR; the list of files written is printed):
         reached of the planned end time, the largest joint drift, Newton
         iterations per step, and the cost per simulated second at the largest dt
         each chain survived, against N, one line per (family, dt).
+  contact.png  the contact families (contact-*; scaling and pattern_policy
+        rows): wall time per step against DoFs and against active contacts
+        (log-log, one line per family and pattern policy), and the share of
+        the step each contact phase took (collision detection = broad +
+        narrow phase + CCD; contact assembly; pattern analysis) against DoFs.
   summary.md  tables of every study, the reference runs and the failures.
 A chart whose study has no rows is skipped with a printed line.  Exit status:
 0 on success, 1 when results.csv is missing or lacks a column or a chart failed.
@@ -61,7 +66,11 @@ COLUMNS = (
     "symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops "
     "analysis_s ordering_s pattern_s slot_tables_s symbolic_s assembly_s factorization_s solve_s line_search_s other_s "
     "wall_per_step_s steady_per_step_s total_s ranks owned_dofs peak_rss_mb scene_rss_mb error reference joint_drift energy_gain state_hash "
+    "contact_candidates active_contacts min_contact_distance contact_pattern_builds pattern_policy broad_phase_s narrow_phase_s "
+    "ccd_s contact_assembly_s penetration_checks interpenetrations min_gap creep_um_per_s "
     "status reason").split()
+# the studies whose rows the contact chart and table show
+CONTACT_STUDIES = ("scaling", "pattern_policy")
 # the two ways of building the chain (perf/harness/families.cc) and their line styles
 CHAINS = {"chain": "-", "chain-articulated": "--", "chain-articulated-dense": ":"}
 # µs per link per step of two established reduced-coordinate engines with
@@ -588,6 +597,80 @@ def chart_phases(sc, out, written):
     save(fig, out, "phases.png", written)
 
 
+def contact_rows(rows):
+    """The contact families' scaling and pattern-policy rows."""
+    return [r for r in rows if r["family"].startswith("contact-") and r["study"] in CONTACT_STUDIES]
+
+
+def contact_shares(r):
+    """(collision detection, contact assembly, analysis) as shares of the
+    run's step time (wall per step × steps), or None without timings."""
+    w, s = wall(r), steps(r)
+    if not (pos(w) and s):
+        return None
+    total = w * s
+    detect = sum(num(r, k) or 0.0 for k in ("broad_phase_s", "narrow_phase_s", "ccd_s"))
+    return (detect / total, (num(r, "contact_assembly_s") or 0.0) / total,
+            (num(r, "analysis_s") or 0.0) / total)
+
+
+def chart_contact(rows, out, style, written):
+    cr = [r for r in contact_rows(rows) if is_ok(r)]
+    if not cr:
+        print("skip contact.png: no ok rows of the contact families")
+        return
+    fig, axes = plt.subplots(1, 3, figsize=(19, 5.2))
+    lines = group(cr, lambda r: (r["family"], r["pattern_policy"] or "reserve"))
+    for k, ((fam, policy), g) in enumerate(sorted(lines.items())):
+        color, marker = style(fam)
+        dash = "--" if policy == "rebuild" else "-"
+        label = fam + (" (rebuild on change)" if policy == "rebuild" else "")
+        pts = sorted((num(r, "dofs"), wall(r), num(r, "active_contacts")) for r in g
+                     if pos(num(r, "dofs")) and pos(wall(r)))
+        if pts:
+            axes[0].plot([p[0] for p in pts], [p[1] for p in pts], dash, marker=marker,
+                         color=color, label=label)
+        by_c = sorted((p[2], p[1]) for p in pts if pos(p[2]))
+        if by_c:
+            axes[1].plot([c for c, _ in by_c], [t for _, t in by_c], dash, marker=marker,
+                         color=color, label=label)
+        if policy == "rebuild":
+            continue
+        sh = sorted((num(r, "dofs"), contact_shares(r)) for r in g if pos(num(r, "dofs")))
+        sh = [(n, x) for n, x in sh if x]
+        for j, (name, ls) in enumerate((("detection", "-"), ("contact assembly", ":"),
+                                        ("analysis", "-."))):
+            if sh:
+                axes[2].plot([n for n, _ in sh], [100 * x[j] for _, x in sh], ls, marker=marker,
+                             color=color, label=f"{fam}: {name}")
+    log_axes(axes[0], True, "time per step against size", "degrees of freedom",
+             "wall time per step [s]", "upper left")
+    log_axes(axes[1], True, "time per step against active contacts",
+             "active contacts (last step)", "wall time per step [s]", "upper left")
+    ax = axes[2]
+    ax.set_xscale("log")
+    ax.axhline(15, color="k", lw=0.8, ls="--")
+    ax.text(0.01, 15, " 15 %", transform=ax.get_yaxis_transform(), va="bottom", fontsize=8)
+    ax.set(title="share of the step", xlabel="degrees of freedom", ylabel="% of the step time",
+           ylim=(0, 100))
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=6.5, loc="upper right", ncol=2)
+    fig.suptitle("Contact families: cost per step, and where it goes")
+    fig.tight_layout()
+    save(fig, out, "contact.png", written)
+
+
+def contact_row(r):
+    sh = contact_shares(r)
+    pct = lambda k: DASH if sh is None else f"{100 * sh[k]:.3g} %"  # noqa: E731
+    return [r["family"], r["size"], fmt_count(num(r, "dofs")), r["study"], r["pattern_policy"] or "reserve",
+            dt_label(num(r, "dt")), fmt_count(steps(r)), fmt_time(wall(r)),
+            fmt(per_step(r, "newton_iterations")), fmt_count(num(r, "active_contacts")),
+            fmt_count(num(r, "contact_candidates")), pct(0), pct(1), pct(2),
+            fmt_count(num(r, "contact_pattern_builds")), fmt(num(r, "min_gap")),
+            fmt_count(num(r, "interpenetrations")), fmt(num(r, "creep_um_per_s")), status_text(r)]
+
+
 # ---------------------------------------------------------------- summary ----
 def table(header, body):
     esc = lambda c: str(c).replace("|", "\\|") or DASH  # noqa: E731
@@ -684,6 +767,18 @@ def summary(rows, out, written):
         L += table(["family", "size", "method", "dt", "reached", "Newton its/step", "time/step",
                     "µs/link/step", "wall/simulated s", "joint drift [m]", "energy gain", "status"],
                    [long_run_row(r) for r in fr])
+    if contact_rows(rows):
+        L += ["## Contact", "", "The contact families' scaling and pattern-policy runs (CHOLMOD). "
+              "Shares of the step time: detection = broad + narrow phase + CCD; contact "
+              "assembly; the pattern's analysis. Active contacts and candidates at the last "
+              "step; min gap and interpenetrations from the exact check; creep [µm/s] of the "
+              "resting bodies from halfway to the end.", ""]
+        cr = sorted(contact_rows(rows), key=lambda r: (r["family"], num(r, "dofs") or 0,
+                                                       r["pattern_policy"], r["study"]))
+        L += table(["family", "size", "dofs", "study", "pattern", "dt", "steps", "time/step",
+                    "Newton its/step", "active", "candidates", "detection", "contact assembly",
+                    "analysis", "contact pattern builds", "min gap [m]", "interpenetrations",
+                    "creep [µm/s]", "status"], [contact_row(r) for r in cr])
     for name, title in (("bullet", "Bullet comparisons"), ("reference", "Reference runs")):
         if studies.get(name):
             L += [f"## {title}", ""] + table(
@@ -718,6 +813,9 @@ def main(argv):
     methods = sorted({r["method"] for r in rows})
     cmap = plt.get_cmap("tab10" if len(methods) <= 10 else "tab20")
     styles = {m: (cmap(i % cmap.N), MARKERS[i % len(MARKERS)]) for i, m in enumerate(methods)}
+    contact_families = sorted({r["family"] for r in contact_rows(rows)})
+    family_styles = {f: (plt.get_cmap("tab10")(i % 10), MARKERS[i % len(MARKERS)])
+                     for i, f in enumerate(contact_families)}
     studies = group(rows, lambda r: r["study"])
     wp, sc, st = (studies.get(k, []) for k in ("work_precision", "scaling", "stability"))
     written, broken = [], []
@@ -725,8 +823,10 @@ def main(argv):
               lambda: chart_scaling(sc, out, styles.get, written),
               lambda: chart_stability(st, out, written),
               lambda: chart_phases(sc, out, written),
-              lambda: chart_chain(rows, out, styles.get, written)]
-    for name, chart in zip(("work_precision", "scaling", "stability", "phases", "chain"), charts):
+              lambda: chart_chain(rows, out, styles.get, written),
+              lambda: chart_contact(rows, out, family_styles.get, written)]
+    for name, chart in zip(("work_precision", "scaling", "stability", "phases", "chain", "contact"),
+                           charts):
         try:
             chart()
         except Exception:  # one broken chart must not stop the others

@@ -27,7 +27,7 @@ std::vector<SpecOption> const& SpecOptions() {
   static std::vector<SpecOption> const options{
       {"--suite", "NAME", "suite label of the row (default run)", &RunSpec::suite},
       {"--study", "NAME", "scaling, work_precision, stability, bullet, reference", &RunSpec::study},
-      {"--family", "NAME", "cantilever, cloth, chain, rods (default cantilever)", &RunSpec::family},
+      {"--family", "NAME", "a family (families.h; --help lists them; default cantilever)", &RunSpec::family},
       {"--size", "LABEL", "40x8x8 (cantilever), 32x32 (cloth), N=50 (chain), 100x250 (rods)",
        &RunSpec::size},
       {"--stiffness-ratio", "R", "times the base stiffness (default 1)", &RunSpec::stiffnessRatio},
@@ -49,6 +49,9 @@ std::vector<SpecOption> const& SpecOptions() {
       {"--pcg-max-it", "N", "PCG iteration cap (default 10000)", &RunSpec::pcgMaxIterations},
       {"--threads", "N", "assembly threads (SceneParams::numThreads), 0 = every CPU (default)",
        &RunSpec::threads},
+      {"--pattern-policy", "reserve|rebuild",
+       "contact pairs in the pattern: reserved and grown (default), or rebuilt whenever they change",
+       &RunSpec::patternPolicy},
       {"--reference-out", "FILE", "write the final tracked positions", &RunSpec::referenceOut},
       {"--reference-in", "FILE", "error against the positions in FILE", &RunSpec::referenceIn},
       {"--reference-desc", "TEXT", "reference column for --reference-in", &RunSpec::referenceDesc},
@@ -132,6 +135,8 @@ bool ValidateSpec(RunSpec& spec, std::string& message) {
     message = "--constraint-hessian must be gn, gs or gsd, got '" + spec.constraintHessian + "'";
   else if (spec.threads < 0)
     message = "--threads must be >= 0 (0: every CPU)";
+  else if (!IsOneOf(spec.patternPolicy, {"reserve", "rebuild"}))
+    message = "--pattern-policy must be reserve or rebuild, got '" + spec.patternPolicy + "'";
   else if (!(spec.nearRigid >= 0) || !std::isfinite(spec.nearRigid))
     message = "--near-rigid must be finite and >= 0 (0: off)";
   else if (!MakeMethod(spec, method))
@@ -305,7 +310,7 @@ std::array<std::string_view, kNumColumns> const kColumnNames{
     "symbolic_analyses", "solver_object_builds", "nnz_h", "nnz_l", "factor_flops", "analysis_s",
     "ordering_s", "pattern_s", "slot_tables_s", "symbolic_s", "assembly_s", "factorization_s", "solve_s", "line_search_s", "other_s", "wall_per_step_s",
     "steady_per_step_s", "total_s", "ranks", "owned_dofs", "peak_rss_mb", "scene_rss_mb", "error", "reference", "joint_drift", "energy_gain", "state_hash",
-    "contact_candidates", "active_contacts", "min_contact_distance", "contact_pattern_builds", "broad_phase_s", "narrow_phase_s", "ccd_s", "contact_assembly_s",
+    "contact_candidates", "active_contacts", "min_contact_distance", "contact_pattern_builds", "pattern_policy", "broad_phase_s", "narrow_phase_s", "ccd_s", "contact_assembly_s",
     "penetration_checks", "interpenetrations", "min_gap", "creep_um_per_s",
     "status", "reason"};
 // clang-format on
@@ -314,7 +319,7 @@ bool IsNumericColumn(int column) {
   static constexpr std::array kText{kSuite,      kStudy,     kFamily, kSize,
                                     kMaterial,   kMethod,    kSolver, kPreconditioner,
                                     kIntegrator, kReference, kStatus, kReason,
-                                    kConstraintHessian, kStateHash};
+                                    kConstraintHessian, kStateHash, kPatternPolicy};
   return std::find(kText.begin(), kText.end(), column) == kText.end();
 }
 
@@ -354,6 +359,7 @@ Row RowFromSpec(RunSpec const& spec) {
   row[kNewtonTol] = Cell(spec.newtonTol);
   row[kConstraintHessian] = spec.constraintHessian;
   row[kNearRigid] = Cell(spec.nearRigid);
+  row[kPatternPolicy] = spec.patternPolicy;
   row[kIntegrator] = spec.integrator;
   row[kDt] = Cell(dt, 9);
   row[kSteps] = Cell(0);
@@ -772,6 +778,8 @@ Row ExecuteRun(RunSpec const& spec) {
   params.newton.reuseForcingTerms = method.reuseForcingTerms;
   params.newton.singlePrecisionReusedFactor = method.singlePrecisionReusedFactor;
   params.numThreads = spec.threads;
+  params.patternPolicy =
+      spec.patternPolicy == "rebuild" ? PatternPolicy::RebuildWhenChanged : PatternPolicy::ReserveAndGrow;
   params.linearSolver = method.solver;
   params.pcg = method.pcg;
   params.ordering = method.ordering;

@@ -38,6 +38,8 @@ struct RunSpec {
   double nearRigid = 0;               ///< NewtonParams::nearRigidBeta: the near-rigid cap β, 0 = off
   int pcgMaxIterations = 10000;       ///< PCG iteration cap
   int threads = 0;                    ///< SceneParams::numThreads: assembly threads, 0 = every CPU
+  /// reserve | rebuild: SceneParams::patternPolicy (ReserveAndGrow, RebuildWhenChanged)
+  std::string patternPolicy = "reserve";
   std::string referenceOut;           ///< write the final tracked positions here
   std::string referenceIn;            ///< compare the final tracked positions with this file
   std::string referenceDesc;          ///< the `reference` column when referenceIn is used
@@ -118,7 +120,7 @@ enum Column : int {
   kNewtonIterations, kLinearIterations, kLinearSolves, kTruncatedSolves, kFactorizations, kReusedSolves, kNearRigidCapped, kPatternBuilds, kSymbolicAnalyses, kSolverObjectBuilds,
   kNnzH, kNnzL, kFactorFlops, kAnalysisS, kOrderingS, kPatternS, kSlotTablesS, kSymbolicS, kAssemblyS, kFactorizationS, kSolveS, kLineSearchS,
   kOtherS, kWallPerStepS, kSteadyPerStepS, kTotalS, kRanks, kOwnedDofs, kPeakRssMb, kSceneRssMb, kError, kReference, kJointDrift, kEnergyGain, kStateHash,
-  kContactCandidates, kActiveContacts, kMinContactDistance, kContactPatternBuilds, kBroadPhaseS, kNarrowPhaseS, kCcdS, kContactAssemblyS,
+  kContactCandidates, kActiveContacts, kMinContactDistance, kContactPatternBuilds, kPatternPolicy, kBroadPhaseS, kNarrowPhaseS, kCcdS, kContactAssemblyS,
   kPenetrationChecks, kInterpenetrations, kMinGap, kCreepUmPerS,
   kStatus, kReason, kNumColumns
 };

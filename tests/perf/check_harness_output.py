@@ -17,17 +17,17 @@ COLUMNS = (
     "linear_solves truncated_solves factorizations reused_solves near_rigid_capped pattern_builds symbolic_analyses solver_object_builds nnz_h nnz_l factor_flops analysis_s "
     "ordering_s pattern_s slot_tables_s symbolic_s assembly_s factorization_s solve_s line_search_s other_s wall_per_step_s steady_per_step_s total_s "
     "ranks owned_dofs peak_rss_mb scene_rss_mb error reference joint_drift energy_gain state_hash "
-    "contact_candidates active_contacts min_contact_distance contact_pattern_builds broad_phase_s narrow_phase_s "
+    "contact_candidates active_contacts min_contact_distance contact_pattern_builds pattern_policy broad_phase_s narrow_phase_s "
     "ccd_s contact_assembly_s penetration_checks interpenetrations min_gap creep_um_per_s status reason"
 ).split()
-STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference", "long_run")
+STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference", "long_run", "pattern_policy")
 # every family of the harness (perf/harness/families.cc) has scaling runs in the tiny suite
 FAMILIES = ("cantilever", "cloth", "chain", "rods", "chain-articulated", "chain-articulated-dense",
             "contact-cloth", "contact-solids", "contact-rigid", "contact-rods")
 CONTACT_FAMILIES = tuple(f for f in FAMILIES if f.startswith("contact-"))
 CONTACT_TIMES = ("broad_phase_s", "narrow_phase_s", "ccd_s", "contact_assembly_s")
 CHARTS = ("scaling.png", "phases.png", "work_precision_cantilever.png", "stability_cantilever.png",
-          "chain.png")
+          "chain.png", "contact.png")
 # joint drift [m]: the articulated chain's joints are exact (drift at round-off
 # of the 0.1 m links); the rigid chain's compliant joints (1e6 N/m, ~1e-3 N·s²
 # links) give way by ~1e-5 m and more under their own weight
@@ -101,6 +101,18 @@ def main():
         if not int(r["contact_candidates"]) >= 0 or (r["family"] in ("contact-rigid", "contact-solids")
                                                      and r["creep_um_per_s"] == ""):
             fail(f"{r['family']} {r['size']}: contact figures missing: {r}")
+    # the pattern policies: one run of each per family and size in the
+    # pattern_policy study, every other run with the default
+    for r in rows:
+        if r["pattern_policy"] not in ("reserve", "rebuild") or (
+                r["study"] != "pattern_policy" and r["pattern_policy"] != "reserve"):
+            fail(f"{r['family']} {r['size']}: pattern policy '{r['pattern_policy']}' in study {r['study']}")
+    policy_runs = {}
+    for r in rows:
+        if r["study"] == "pattern_policy":
+            policy_runs.setdefault((r["family"], r["size"]), set()).add(r["pattern_policy"])
+    if not policy_runs or any(p != {"reserve", "rebuild"} for p in policy_runs.values()):
+        fail(f"the pattern_policy study does not run both policies per scene: {policy_runs}")
     for r in rows:
         if r["family"] not in CONTACT_FAMILIES and any(r[c] for c in CONTACT_TIMES):
             fail(f"{r['family']} {r['size']} has contact columns")
