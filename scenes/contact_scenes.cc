@@ -1,6 +1,7 @@
 // The contact scenes (contact_scenes.h).
 #include "scenes/contact_scenes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -420,10 +421,56 @@ ContactScene ArmPushScene(SceneParams params, Error& error) {
   Builder b(params);
   ArmPush const push = AddArmPush(b, 0.3);
   ContactScene out = Finish(b, 2, error);
-  out.drive = [push](real time, Error& driveError) {
-    return push.carriage->SetTargetDof(push.start + push.speed * time, driveError);
+  out.drive = [push](real from, real, Error& driveError) {
+    return push.carriage->SetTargetDof(push.start + push.speed * from, driveError);
   };
   return out;
+}
+
+namespace {
+constexpr real kGraspCube = 0.1;                       // edge [m]
+constexpr real kGraspStartGap = 0.003, kGraspSqueeze = 0.0015;  // per side [m]
+constexpr real kGraspPaddleHalfWidth = 0.01;
+}  // namespace
+
+Real3 GraspPaddlePosition(int side, real time, real activationDistance) {
+  real const closing = std::clamp(time / kGraspClosed, real(0), real(1));
+  real const lifting = std::clamp((time - kGraspClosed) / (kGraspLifted - kGraspClosed), real(0), real(1));
+  real const face = 0.5 * kGraspCube + kGraspStartGap - closing * (kGraspStartGap + kGraspSqueeze);
+  real const x = (side == 0 ? -1 : 1) * (face + kGraspPaddleHalfWidth);
+  // at the cube's mid-height (it starts 0.9 d̂ above the ground)
+  return Real3(x, 0.5 * kGraspCube + 0.9 * activationDistance + lifting * kGraspLift, 0);
+}
+
+Grasp AddGrasp(Builder& b, int cells) {
+  Grasp out;
+  b.AddGround();
+  real const dhat = b.ActivationDistance();
+  DeformableActorParams cube;
+  b.MakeBox(Real3(-0.5 * kGraspCube, 0.9 * dhat, -0.5 * kGraspCube), Real3::Constant(kGraspCube),
+            {cells, cells, cells}, cube);
+  cube.material = TetMaterialModel::StableNeoHookean;
+  cube.youngModulus = 1e5;
+  cube.density = 1000;
+  out.cube = b.AddDeformable(cube);
+  b.AddSurface(out.cube, false);
+  for (int side = 0; side < 2; ++side) {
+    ColliderParams paddle;
+    paddle.shape = ShapeType::Box;
+    paddle.halfExtents = Real3(kGraspPaddleHalfWidth, 0.04, 0.08);
+    paddle.position = GraspPaddlePosition(side, 0, dhat);
+    paddle.friction = 0.8;
+    out.paddles[side] = b.AddCollider(paddle);
+  }
+  return out;
+}
+
+bool DriveGrasp(Grasp const& grasp, real activationDistance, real to, Error& error) {
+  for (int side = 0; side < 2; ++side)
+    if (!grasp.paddles[side]->SetTargetTransform(GraspPaddlePosition(side, to, activationDistance),
+                                                 Quat::Identity(), error))
+      return false;
+  return true;
 }
 
 }  // namespace superdex::scenes

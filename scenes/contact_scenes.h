@@ -86,10 +86,10 @@ bool TetBall(Real3 const& center, real radius, int cells, DeformableActorParams&
 struct ContactScene {
   std::unique_ptr<Scene> scene;  ///< null when the build failed
   real seconds = 1;
-  /// Called before each step with the time at its start [s] (targets that
-  /// drive the scene; false and `error` when a target is refused); none:
-  /// nothing to drive.
-  std::function<bool(real, Error&)> drive;
+  /// Called before each step with the times at its start and end [s]
+  /// (targets that drive the scene; false and `error` when a target is
+  /// refused); none: nothing to drive.
+  std::function<bool(real from, real to, Error&)> drive;
 };
 
 /// The scene built by `builder` (null, and its error in `error`, after a failure).
@@ -166,5 +166,30 @@ ColliderParams ArmCapsule(ArticulatedActor const& arm, int link);
 /// The ground, the box and the arm with its targets, added by `builder`.
 ArmPush AddArmPush(Builder& builder, real speed);
 ContactScene ArmPushScene(SceneParams params, Error& error);
+
+/// 9. A kinematic gripper lifts a soft cube against gravity: a tet cube (0.1
+/// m, cells³ cells of 6 tets, stable Neo-Hookean, E = 1e5 Pa, 1000 kg/m³:
+/// 1 kg) rests on the ground (μ = 0.5) between two static box paddles (2 cm
+/// thick, 8 cm tall, 16 cm deep, μ = 0.8) whose faces start 3 mm from its
+/// sides. Targets move them: they close 4.5 mm each until kGraspClosed (the
+/// cube squeezed 1.5 mm a side), lift 0.1 m at constant speed until
+/// kGraspLifted, and hold still after; the cube must hang between them, held
+/// by friction alone (its weight 9.81 N against ~0.6 · 2 · 30 N).
+struct Grasp {
+  DeformableActor* cube = nullptr;
+  std::array<Collider*, 2> paddles{};  ///< at −x and +x
+};
+
+inline constexpr real kGraspClosed = 0.25;  ///< the paddles closed [s]
+inline constexpr real kGraspLifted = 0.5;   ///< the cube lifted [s]
+inline constexpr real kGraspLift = 0.1;     ///< how far [m]
+
+/// Where paddle `side` (0: −x, 1: +x) has its centre at `time` [s].
+Real3 GraspPaddlePosition(int side, real time, real activationDistance);
+/// The ground, the cube and the paddles (unmoved), added by `builder`.
+Grasp AddGrasp(Builder& builder, int cells);
+/// Moves the paddles to their targets at `to` (the step's end); the scene
+/// runs 1.5 s (closed, lifted, then held 1 s).
+bool DriveGrasp(Grasp const& grasp, real activationDistance, real to, Error& error);
 
 }  // namespace superdex::scenes

@@ -441,6 +441,19 @@ bool BuildContactRods(Cells const& cells, double, FamilyScene& out, Error& error
   return Added(b, error);
 }
 
+bool BuildContactGrasp(Cells const& cells, double, FamilyScene& out, Error& error) {
+  scenes::Builder b(*out.scene);
+  scenes::Grasp const grasp = scenes::AddGrasp(b, cells[0]);
+  real const dhat = b.ActivationDistance();
+  out.length = 0.1;
+  out.trackedPositions = NodesOf(std::array{grasp.cube});
+  out.restingPoints = out.trackedPositions;  // held still from 0.5 s on
+  out.drive = [grasp, dhat](real, real to, Error& driveError) {
+    return scenes::DriveGrasp(grasp, dhat, to, driveError);
+  };
+  return Added(b, error);
+}
+
 struct Family {
   std::string_view name;
   std::string_view sizePrefix;  ///< before the counts: "N=" for the chain
@@ -454,7 +467,7 @@ struct Family {
   bool contact = false;  ///< the stiffness ratio scales the barrier's κ
 };
 
-std::array<Family, 10> const kFamilies{{
+std::array<Family, 11> const kFamilies{{
     {"cantilever", "", 3, "40x8x8", "E", kBeamYoung, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return 3 * (c[0] + 1) * (c[1] + 1) * (c[2] + 1); }, BuildCantilever},
     {"cloth", "", 2, "32x32", "E", kClothYoung, kClothNewtonMaxIterations,
@@ -475,6 +488,9 @@ std::array<Family, 10> const kFamilies{{
      [](Cells const& c) { return RigidActor::kNumDofs * c[0]; }, BuildContactRigid, true},
     {"contact-rods", "", 2, "20x50", "kappa", kBarrierStiffness, kDefaultNewtonMaxIterations,
      [](Cells const& c) { return 4 * c[0] * c[1]; }, BuildContactRods, true},
+    // the lift's steps take up to 44 Newton iterations (docs/contact.md)
+    {"contact-grasp", "C=", 1, "C=3", "kappa", kBarrierStiffness, 100,
+     [](Cells const& c) { return 3 * (c[0] + 1) * (c[0] + 1) * (c[0] + 1); }, BuildContactGrasp, true},
 }};
 
 Family const* FindFamily(std::string_view name) {

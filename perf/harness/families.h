@@ -55,6 +55,10 @@ struct FamilyScene {
   /// stay put — their points, whose drift over the run's second half is the
   /// creep column (empty: nothing should stick).
   std::function<DynamicArray<Real3>()> restingPoints;
+  /// Scenes moved by targets (contact-grasp): called before each step with
+  /// the times at its start and end [s]; false and `error` when a target is
+  /// refused. Empty elsewhere.
+  std::function<bool(real from, real to, Error& error)> drive;
 };
 
 /// Whether `family` is a contact family (its runs fill the contact columns).

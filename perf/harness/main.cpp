@@ -248,6 +248,7 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Scaling("contact-solids", {"5x2", "5x4", "5x6"}, cholmod, 60);
     b.Scaling("contact-rigid", {"N=5", "N=10"}, cholmod, 60);
     b.Scaling("contact-rods", {"10x25", "20x50", "50x50"}, cholmod, 60);
+    b.Scaling("contact-grasp", {"C=3", "C=4"}, cholmod, 90);  // closed, lifted, held 1 s
     b.PatternPolicies("contact-cloth", {"16x16"}, 45);
     b.PatternPolicies("contact-rods", {"20x50"}, 60);
     Strings const kappa{"0.01", "1", "100"}, contactDts{"1/120", "1/60", "1/30"};
@@ -285,6 +286,7 @@ bool DefineSuite(SuiteBuilder& b, std::string const& name) {
     b.Scaling("contact-solids", {"2x1"}, {"cholmod"}, 4);
     b.Scaling("contact-rigid", {"N=2"}, {"cholmod"}, 4);
     b.Scaling("contact-rods", {"2x10"}, {"cholmod"}, 4);
+    b.Scaling("contact-grasp", {"C=2"}, {"cholmod"}, 4);
     b.PatternPolicies("contact-rigid", {"N=2"}, 4);
     return true;
   }

@@ -805,6 +805,7 @@ Row ExecuteRun(RunSpec const& spec) {
   int done = 0;
   bool ok = true;
   for (; done < spec.steps; ++done) {
+    if (fs.drive && !(ok = fs.drive(done * dt, (done + 1) * dt, error))) break;
     if (!(ok = fs.scene->Step(dt, error))) break;
     totals.Add(fs.scene->GetStats());
     watch.Update();

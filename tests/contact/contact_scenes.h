@@ -132,11 +132,24 @@ inline ArmPush MakeArmPush(Scene& scene, real speed = 0.3) {
   return push;
 }
 
-/// Drives `scene` for the step that starts at `time`, REQUIREd to succeed.
-inline void Drive(ContactScene const& scene, real time) {
+/// Step `s` of `dt`, REQUIREd to succeed and to leave no two colliders
+/// passing through each other (the exact check); adds its Newton iterations.
+inline void StepChecked(Scene& scene, real dt, int s, scenes::InterpenetrationCheck& check, long& newton) {
+  Error error;
+  bool const stepped = scene.Step(dt, error);
+  INFO("step " << s << ": " << error.ToString());
+  REQUIRE(stepped);
+  newton += scene.GetStats().newtonIterations;
+  std::string const found = check.Find(scene);
+  INFO(found);
+  REQUIRE(found.empty());
+}
+
+/// Drives `scene` for the step from `from` to `to`, REQUIREd to succeed.
+inline void Drive(ContactScene const& scene, real from, real to) {
   if (!scene.drive) return;
   Error error;
-  bool const driven = scene.drive(time, error);
+  bool const driven = scene.drive(from, to, error);
   INFO(error.ToString());
   REQUIRE(driven);
 }

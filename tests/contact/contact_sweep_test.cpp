@@ -30,7 +30,7 @@ void Sweep(std::string const& name, std::function<ContactScene(SceneParams)> con
     real minGap = std::numeric_limits<real>::infinity();
     auto const start = std::chrono::steady_clock::now();
     for (int s = 0; s < steps; ++s) {
-      Drive(scene, static_cast<real>(s) / rate);
+      Drive(scene, static_cast<real>(s) / rate, static_cast<real>(s + 1) / rate);
       Error error;
       bool const stepped = scene.scene->Step(1.0 / rate, error);
       INFO(name << " at dt = 1/" << rate << ", step " << s << ": " << error.ToString());

@@ -298,13 +298,7 @@ TEST_CASE("a 5-link arm driven by targets pushes a box across the ground", "[con
   for (int s = 0; s < steps; ++s) {
     Error error;
     REQUIRE(push.carriage->SetTargetDof(push.start + push.speed * s * dt, error));
-    bool const stepped = scene->Step(dt, error);
-    INFO("step " << s << ": " << error.ToString());
-    REQUIRE(stepped);
-    newton += scene->GetStats().newtonIterations;
-    std::string const found = check.Find(*scene);
-    INFO(found);
-    REQUIRE(found.empty());
+    StepChecked(*scene, dt, s, check, newton);
   }
   // the carriage travelled 0.6 m, 0.15 m of it before the capsule met the
   // box: the box follows at the carriage's speed (the hanging links bent by

@@ -23,7 +23,7 @@ COLUMNS = (
 STUDIES = ("scaling", "work_precision", "stability", "bullet", "reference", "long_run", "pattern_policy")
 # every family of the harness (perf/harness/families.cc) has scaling runs in the tiny suite
 FAMILIES = ("cantilever", "cloth", "chain", "rods", "chain-articulated", "chain-articulated-dense",
-            "contact-cloth", "contact-solids", "contact-rigid", "contact-rods")
+            "contact-cloth", "contact-solids", "contact-rigid", "contact-rods", "contact-grasp")
 CONTACT_FAMILIES = tuple(f for f in FAMILIES if f.startswith("contact-"))
 CONTACT_TIMES = ("broad_phase_s", "narrow_phase_s", "ccd_s", "contact_assembly_s")
 CHARTS = ("scaling.png", "phases.png", "work_precision_cantilever.png", "stability_cantilever.png",
@@ -98,7 +98,7 @@ def main():
         times = [float(r[c]) for c in CONTACT_TIMES]
         if not all(t >= 0 for t in times) or not sum(times) <= float(r["wall_per_step_s"]) * int(r["steps"]):
             fail(f"{r['family']} {r['size']}: contact phase times {times} not within the steps' time")
-        if not int(r["contact_candidates"]) >= 0 or (r["family"] in ("contact-rigid", "contact-solids")
+        if not int(r["contact_candidates"]) >= 0 or (r["family"] in ("contact-rigid", "contact-solids", "contact-grasp")
                                                      and r["creep_um_per_s"] == ""):
             fail(f"{r['family']} {r['size']}: contact figures missing: {r}")
     # the pattern policies: one run of each per family and size in the
