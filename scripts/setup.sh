@@ -3,7 +3,9 @@
 # makes OpenBLAS the system BLAS/LAPACK. Idempotent: when everything is
 # already in place it only checks (about a second) and prints one line.
 #
-# Run as root, or as a user with sudo.
+# Run as root, or as a user with sudo. `--peers` adds the engines that
+# perf/peers compares SuperDex with (Bullet 3.24, ODE 0.16.2, MuJoCo 2.2.2:
+# not dependencies of SuperDex; perf/peers builds each one only when found).
 set -euo pipefail
 
 packages=(
@@ -14,6 +16,9 @@ packages=(
   libopenblas-dev libopenblas0-pthread
   clang libclang-rt-14-dev lld
 )
+if [[ ${1:-} == --peers ]]; then
+  packages+=(libbullet-dev libode-dev libmujoco-dev)
+fi
 
 # run as root, or through sudo when we are not root
 as_root() {
