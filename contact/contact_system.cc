@@ -373,7 +373,6 @@ bool ContactSystem::SetPrimitives(Collider& c, DynamicArray<std::array<int, 3>> 
 bool ContactSystem::CheckSeparated(int index, std::string const& what, Error& error) {
   PrepareVertices();
   bound_.assign(x_.size(), 0);
-  selfBound_.assign(colliders_.size(), 0);
   vertexSelfBound_.assign(x_.size(), 0);
   pairs_.clear();
   ++treeStamp_;
@@ -698,7 +697,6 @@ void ContactSystem::BeginStage(StageContext const& stage) {
   // vertex, not the body's largest: a cloth draped on a sphere whose edges
   // still swing at 3 m/s keeps its resting middle's bounds small (24 × 24
   // nodes at dt = 1/60: docs/contact.md "Costs")
-  selfBound_.assign(colliders_.size(), 0);
   vertexSelfBound_.assign(x_.size(), 0);
   for (int c = 0; c < static_cast<int>(colliders_.size()); ++c) {
     if (!MayTouch(c, c)) continue;
@@ -715,7 +713,6 @@ void ContactSystem::BeginStage(StageContext const& stage) {
       // failed on the 32 × 32 one landing at dt = 1/60
       real const speed = std::max({(v - mean).norm(), v.norm(), mean.norm()});
       vertexSelfBound_[first + i] = speed * h + params_.activationDistance;
-      selfBound_[c] = std::max(selfBound_[c], vertexSelfBound_[first + i]);
     }
   }
   ++treeStamp_;
@@ -1514,7 +1511,7 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
   // the self-contact bound: each vertex's displacement relative to its
   // body's mean displacement
   for (int c = 0; c < static_cast<int>(colliders_.size()); ++c)
-    if (selfBound_[c] > 0) safe = std::min(safe, SelfSafeStep(c, safe));
+    if (HasSelfBound(c)) safe = std::min(safe, SelfSafeStep(c, safe));
   // continuous collision detection of every candidate along the step
   for (Pair const& pair : pairs_)
     safe = colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid() ? RigidPairCcd(pair, delta, safe)
@@ -1560,7 +1557,7 @@ bool ContactSystem::RecenterStepBounds() {
       nearEdge = nearEdge || (x_[i] - boundCenter_[i]).norm() > kUsed * bound_[i];
       moved += (x_[i] - boundCenter_[i]) / count;
     }
-    if (selfBound_[c] > 0)
+    if (HasSelfBound(c))
       for (int i = first; i < first + count; ++i)
         nearEdge = nearEdge || (x_[i] - boundCenter_[i] - moved).norm() > kUsed * vertexSelfBound_[i];
   }
@@ -1601,7 +1598,7 @@ bool ContactSystem::AcceptsFirstIterate() const {
   }
   // and each self-contact body's vertices within its self bound of its mean
   for (int c = 0; c < static_cast<int>(colliders_.size()); ++c) {
-    if (selfBound_[c] <= 0) continue;
+    if (!HasSelfBound(c)) continue;
     int const first = firstVertex_[c], count = firstVertex_[c + 1] - first;
     Real3 mean = Real3::Zero();
     for (int i = first; i < first + count; ++i) mean += displacement_[i] / count;

@@ -332,6 +332,11 @@ class ContactSystem final : public StageTerm {
   ObstacleTrees const& TreesOf(int obstacleIndex);
   /// A body's trees for its self contact (this stage, inflated by its self bound).
   ObstacleTrees const& SelfTrees(int index);
+  /// Whether collider c's vertices have self bounds this stage (its self
+  /// contact is on: each is at least d̂).
+  bool HasSelfBound(int c) const {
+    return firstVertex_[c] < firstVertex_[c + 1] && vertexSelfBound_[firstVertex_[c]] > 0;
+  }
   /// The box of `vertices` inflated by `margin` and their largest self bound.
   contact::Aabb SelfBox(std::initializer_list<int> vertices, real margin) const;
   /// How far a self pair's gap can close this stage: the largest self bound
@@ -387,8 +392,6 @@ class ContactSystem final : public StageTerm {
   DynamicArray<char> keptFound_;  ///< per kept pair: found again
   DynamicArray<real> bound_;             ///< per vertex displacement bound for the stage [m]
   mutable PhaseTimes times_;
-  /// per collider: the largest of its vertices' self bounds (0: no self contact) [m]
-  DynamicArray<real> selfBound_;
   DynamicArray<real> vertexSelfBound_;  ///< per vertex: bound relative to its body's mean (self contact) [m]
   ObstacleTrees selfTrees_;
   DynamicArray<Pair> pairs_;
