@@ -1,6 +1,7 @@
 #include <superdex/assembly/hessian_assembler.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 
 #include <superdex/core/stopwatch.h>
@@ -232,6 +233,19 @@ void HessianAssembler::AppendSlots(SparseSymmetricMatrix const& matrix, DynamicA
     }
 }
 
+void HessianAssembler::FindSlots(DynamicArray<int> const& dofs, int* slots) const {
+  int const n = static_cast<int>(dofs.size());
+  for (int a = 0; a < n; ++a)
+    for (int b = a; b < n; ++b) {
+      int const pa = permutation_[dofs[a]], pb = permutation_[dofs[b]];
+      int const row = std::min(pa, pb), col = std::max(pa, pb);
+      auto const first = matrix_.rowIndex.begin() + matrix_.colStart[col];
+      auto const last = matrix_.rowIndex.begin() + matrix_.colStart[col + 1];
+      auto const found = std::lower_bound(first, last, row);
+      *slots++ = found != last && *found == row ? static_cast<int>(found - matrix_.rowIndex.begin()) : -1;
+    }
+}
+
 void HessianAssembler::Commit(Pattern& pattern, AnalysisTimes& times) {
   auto const start = Clock::now();
   matrix_ = std::move(pattern.matrix);
@@ -258,6 +272,8 @@ void HessianAssembler::ClearDynamicContributors() {
   dynamicSlots_.clear();
   dynamicValueStage_.clear();
   dynamicGradientStage_.clear();
+  dynamicBlockStamp_.clear();
+  dynamicGradientStamp_.clear();
 }
 
 namespace {
@@ -286,43 +302,59 @@ bool HessianAssembler::SetDynamicContributors(Span<DynamicArray<int> const> dofL
                             dynamicDofs_.begin() + dynamicDofStart_[k + 1]);
     if (changed) reserved_.clear();
   }
-  // every block pair they use is (kept) reserved, stamped with this stage
+  // every block pair they use is (kept) reserved, stamped with this stage:
+  // the pairs of each list's distinct blocks (a node's 3 DoFs are one block)
   ++dynamicStage_;
   std::int64_t added = 0;
-  for (auto const& dofs : dofLists)
-    for (std::size_t i = 0; i < dofs.size(); ++i)
-      for (std::size_t j = i; j < dofs.size(); ++j) {
-        int const a = dofToBlock_[dofs[i]], b = dofToBlock_[dofs[j]];
-        bool const inserted = reserved_.insert_or_assign(BlockPair(a, b), dynamicStage_).second;
-        added += inserted && a != b;  // a new edge of the block graph (a block's own pair always is one)
-      }
-  // their slots (into the scratch that the last stage's slots left: no
-  // allocation once it has grown); a missing entry makes the pattern grow
-  DynamicArray<int>& slots = slotScratch_;
-  slots.clear();
-  bool dropsEntries = false;
-  auto const stored = [](int, int) { return true; };
+  for (auto const& dofs : dofLists) {
+    std::array<int, 64> blocks;
+    int numBlocks = 0;
+    for (int dof : dofs) {
+      int const block = dofToBlock_[dof];
+      if (numBlocks > 0 && blocks[numBlocks - 1] == block) continue;  // (a block's DoFs come together)
+      if (numBlocks == static_cast<int>(blocks.size())) break;        // (the rest below, pair by pair)
+      blocks[numBlocks++] = block;
+    }
+    auto reserve = [&](int a, int b) {
+      bool const inserted = reserved_.insert_or_assign(BlockPair(a, b), dynamicStage_).second;
+      added += inserted && a != b;  // a new edge of the block graph (a block's own pair always is one)
+    };
+    for (int i = 0; i < numBlocks; ++i)
+      for (int j = i; j < numBlocks; ++j) reserve(blocks[i], blocks[j]);
+    if (numBlocks == static_cast<int>(blocks.size()))  // a list of more blocks than that: every DoF pair
+      for (std::size_t i = 0; i < dofs.size(); ++i)
+        for (std::size_t j = i; j < dofs.size(); ++j) reserve(dofToBlock_[dofs[i]], dofToBlock_[dofs[j]]);
+  }
   dynamicDofStart_.assign(1, 0);
   dynamicDofs_.clear();
+  dynamicSlotStart_.assign(1, 0);
   for (auto const& dofs : dofLists) {
     dynamicDofs_.insert(dynamicDofs_.end(), dofs.begin(), dofs.end());
     dynamicDofStart_.push_back(static_cast<int>(dynamicDofs_.size()));
-    AppendSlots(matrix_, permutation_, dofs, stored, slots, dropsEntries);
-  }
-  if (changed || std::find(slots.begin(), slots.end(), -1) != slots.end()) {
-    reservedSinceOrdering_ += added;
-    if (!GrowPattern(update, changed, error)) return false;
-    slots.clear();
-    for (auto const& dofs : dofLists) AppendSlots(matrix_, permutation_, dofs, stored, slots, dropsEntries);
-  }
-  std::swap(dynamicSlots_, slots);
-  dynamicSlotStart_.assign(1, 0);
-  for (auto const& dofs : dofLists) {
     int const n = static_cast<int>(dofs.size());
     dynamicSlotStart_.push_back(dynamicSlotStart_.back() + n * (n + 1) / 2);
   }
-  dynamicValueStage_.assign(dynamicSlots_.size(), 0);
-  dynamicGradientStage_.assign(dynamicDofs_.size(), 0);
+  // their slots, each list's into its own range on the assembler's threads
+  // (storage kept: no allocation once grown); a missing entry makes the
+  // pattern grow
+  dynamicSlots_.resize(static_cast<std::size_t>(dynamicSlotStart_.back()));
+  auto const fillSlots = [&] {
+    ParallelFor(static_cast<int>(dofLists.size()), kDynamicSlotGrain, [&](int begin, int end, int) {
+      for (int k = begin; k < end; ++k) FindSlots(dofLists[k], dynamicSlots_.data() + dynamicSlotStart_[k]);
+    });
+  };
+  fillSlots();
+  if (changed || std::find(dynamicSlots_.begin(), dynamicSlots_.end(), -1) != dynamicSlots_.end()) {
+    reservedSinceOrdering_ += added;
+    if (!GrowPattern(update, changed, error)) return false;
+    fillSlots();
+  }
+  dynamicValueStage_.resize(dynamicSlots_.size());
+  dynamicGradientStage_.resize(dynamicDofs_.size());
+  // no contributor of this stage has added anything yet
+  dynamicBlockStamp_.assign(dofLists.size(), 0);
+  dynamicGradientStamp_.assign(dofLists.size(), 0);
+  if (++dynamicStamp_ == 0) dynamicStamp_ = 1;
   return true;
 }
 
@@ -431,8 +463,13 @@ void HessianAssembler::PrepareStaging() {
 
 void HessianAssembler::BeginAssembly(Span<real> gradient) {
   gradient_ = gradient;
-  std::fill(dynamicValueStage_.begin(), dynamicValueStage_.end(), real(0));
-  std::fill(dynamicGradientStage_.begin(), dynamicGradientStage_.end(), real(0));
+  // the second family's stages are assigned by each contributor's add,
+  // stamped with this assembly's number (FinishAssembly sums only those)
+  if (++dynamicStamp_ == 0) {  // wrapped: no stamp of an earlier assembly may match
+    std::fill(dynamicBlockStamp_.begin(), dynamicBlockStamp_.end(), 0u);
+    std::fill(dynamicGradientStamp_.begin(), dynamicGradientStamp_.end(), 0u);
+    dynamicStamp_ = 1;
+  }
   if (!staged_) {
     std::fill(gradient.begin(), gradient.end(), real(0));
     ZeroValues();
@@ -450,9 +487,17 @@ void HessianAssembler::BeginAssembly(Span<real> gradient) {
 void HessianAssembler::FinishAssembly() {
   FinishStaticAssembly();
   // the second family after every static contributor, in its order (both
-  // paths: the same sums for any thread count)
-  for (std::size_t k = 0; k < dynamicSlots_.size(); ++k) matrix_.values[dynamicSlots_[k]] += dynamicValueStage_[k];
-  for (std::size_t k = 0; k < dynamicDofs_.size(); ++k) gradient_[dynamicDofs_[k]] += dynamicGradientStage_[k];
+  // paths: the same sums for any thread count), those that added something
+  // in this assembly
+  int const numDynamic = GetNumDynamicContributors();
+  for (int k = 0; k < numDynamic; ++k) {
+    if (dynamicBlockStamp_[k] == dynamicStamp_)
+      for (int s = dynamicSlotStart_[k]; s < dynamicSlotStart_[k + 1]; ++s)
+        matrix_.values[dynamicSlots_[s]] += dynamicValueStage_[s];
+    if (dynamicGradientStamp_[k] == dynamicStamp_)
+      for (int d = dynamicDofStart_[k]; d < dynamicDofStart_[k + 1]; ++d)
+        gradient_[dynamicDofs_[d]] += dynamicGradientStage_[d];
+  }
 }
 
 void HessianAssembler::FinishStaticAssembly() {

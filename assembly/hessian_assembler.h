@@ -122,15 +122,19 @@ class HessianAssembler {
   std::size_t GetNumReservedPairs() const { return reserved_.size(); }
   /// Adds the local gradient and the symmetric block of dynamic contributor
   /// k (as AddGradient and AddBlock); safe to call concurrently for
-  /// different k; at most one of each per assembly.
+  /// different k; at most one of each per assembly. A contributor that adds
+  /// nothing costs FinishAssembly nothing: only those stamped by these calls
+  /// in this assembly are summed (most contact candidates are beyond reach).
   template <class Derived>
   void AddDynamicGradient(int k, Eigen::MatrixBase<Derived> const& g) {
     int const first = dynamicDofStart_[k], n = dynamicDofStart_[k + 1] - first;
+    dynamicGradientStamp_[k] = dynamicStamp_;
     for (int a = 0; a < n; ++a) dynamicGradientStage_[first + a] = g[a];
   }
   template <class Derived>
   void AddDynamicBlock(int k, Eigen::MatrixBase<Derived> const& h) {
     int const n = dynamicDofStart_[k + 1] - dynamicDofStart_[k];
+    dynamicBlockStamp_[k] = dynamicStamp_;
     real* out = dynamicValueStage_.data() + dynamicSlotStart_[k];
     for (int a = 0; a < n; ++a)
       for (int b = a; b < n; ++b) *out++ = h(a, b);
@@ -308,6 +312,11 @@ class HessianAssembler {
   static void AppendSlots(SparseSymmetricMatrix const& matrix, DynamicArray<int> const& permutation,
                           DynamicArray<int> const& dofs, Stored const& stored, DynamicArray<int>& slots,
                           bool& dropsEntries);
+  /// The slots of `dofs`' local upper triangle in the current pattern, n(n +
+  /// 1)/2 of them into `slots` (−1 where an entry is missing).
+  void FindSlots(DynamicArray<int> const& dofs, int* slots) const;
+  /// Second-family contributors per chunk of the parallel slot search
+  static constexpr int kDynamicSlotGrain = 512;
   /// Makes `pattern` the assembler's (and its staging), recording `times`.
   void Commit(Pattern& pattern, AnalysisTimes& times);
   void ClearDynamicContributors();
@@ -359,8 +368,11 @@ class HessianAssembler {
   std::int64_t orderedBlockPairs_ = 0;      ///< edges + blocks of the block graph last ordered
   std::int64_t numGrowths_ = 0;
   DynamicArray<int> dynamicDofStart_{0}, dynamicDofs_, dynamicSlotStart_{0}, dynamicSlots_;
-  DynamicArray<int> slotScratch_;  ///< SetDynamicContributors's slots being made (swapped with dynamicSlots_)
   DynamicArray<real> dynamicValueStage_, dynamicGradientStage_;
+  /// per dynamic contributor: the assembly its block and gradient were last
+  /// added in (dynamicStamp_ counts assemblies)
+  DynamicArray<std::uint32_t> dynamicBlockStamp_, dynamicGradientStamp_;
+  std::uint32_t dynamicStamp_ = 0;
 };
 
 }  // namespace superdex::internal

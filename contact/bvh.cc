@@ -218,6 +218,26 @@ void Bvh::FindPairsWith(Span<Aabb const> others, DynamicArray<IndexPair>& pairs)
   std::sort(pairs.begin(), pairs.end());
 }
 
+void Bvh::FindPairsWith(Span<Aabb const> others, DynamicArray<IndexPair>& pairs,
+                        internal::ParallelExecutor const& executor,
+                        DynamicArray<DynamicArray<IndexPair>>& chunks) const {
+  int const count = static_cast<int>(others.size());
+  int const numChunks = (count + kQueryChunk - 1) / kQueryChunk;
+  if (static_cast<int>(chunks.size()) < numChunks) chunks.resize(numChunks);
+  executor.For(numChunks, 1, [&](int begin, int end, int) {
+    for (int chunk = begin; chunk < end; ++chunk) {
+      DynamicArray<IndexPair>& out = chunks[chunk];
+      out.clear();
+      int const last = std::min(count, (chunk + 1) * kQueryChunk);
+      for (int j = chunk * kQueryChunk; j < last; ++j)
+        Traverse(others[j], [&](int k) { out.push_back({boxIndex_[k], j}); });
+    }
+  });
+  pairs.clear();
+  for (int chunk = 0; chunk < numChunks; ++chunk) pairs.insert(pairs.end(), chunks[chunk].begin(), chunks[chunk].end());
+  std::sort(pairs.begin(), pairs.end());
+}
+
 Aabb SweptBox(Span<Real3 const> positions, Span<Real3 const> displacements,
               Span<int const> vertices, real margin) {
   Aabb box{Real3::Constant(std::numeric_limits<real>::infinity()),

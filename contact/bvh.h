@@ -26,6 +26,7 @@
 #include <type_traits>
 
 #include <superdex/core/error.h>
+#include <superdex/core/parallel.h>
 #include <superdex/core/types.h>
 
 namespace superdex::contact {
@@ -102,6 +103,14 @@ class Bvh {
   /// query, with the tree built over one set and the other set's boxes
   /// queried against it.
   void FindPairsWith(Span<Aabb const> others, DynamicArray<IndexPair>& pairs) const;
+  /// As above, the queries divided among `executor`'s threads in fixed
+  /// chunks of kQueryChunk boxes, each chunk's pairs into its own vector of
+  /// `chunks` (grown as needed and kept between calls, so that a reused
+  /// `chunks` allocates nothing once large enough), then concatenated and
+  /// sorted: the same pairs in the same order for any thread count.
+  static constexpr int kQueryChunk = 256;
+  void FindPairsWith(Span<Aabb const> others, DynamicArray<IndexPair>& pairs,
+                     internal::ParallelExecutor const& executor, DynamicArray<DynamicArray<IndexPair>>& chunks) const;
 
  private:
   // A node's bounds, and either its two children (internal: the left child

@@ -442,7 +442,6 @@ void ContactSystem::PrepareVertices() {
     firstVertex_[c + 1] = firstVertex_[c] + static_cast<int>(colliders_[c]->local_.size());
   int const numVertices = firstVertex_.back();
   x_.resize(numVertices);
-  trial_.resize(numVertices);
   displacement_.resize(numVertices);
   vertexFraction_.resize(numVertices);  // (LimitStepPerDof assigns without allocating)
   UpdatePositions(x_);
@@ -642,6 +641,7 @@ void ContactSystem::UpdatePositions(DynamicArray<Real3>& x) const {
 
 void ContactSystem::BeginStage(StageContext const& stage) {
   ScopedSeconds timer(times_.broadPhase);
+  executor_ = stage.executor;
   // the kinematic obstacles' share of their step's motion: from where they
   // are to the pose at the stage's end (reached by AdvanceTarget)
   progress_ = 1;
@@ -717,7 +717,10 @@ void ContactSystem::BeginStage(StageContext const& stage) {
   }
   ++treeStamp_;
   FindPairs();
-  for (Pair& pair : pairs_) LagFriction(pair);
+  ForPairs(static_cast<int>(pairs_.size()), [this](int begin, int end) {
+    for (int p = begin; p < end; ++p) LagFriction(pairs_[p]);
+  });
+  pairValue_.resize(pairs_.size());
 }
 
 real ContactSystem::KinematicTravel() const {
@@ -850,7 +853,8 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   // relative to the body's mean: one whose gap exceeds both sides' largest
   // plus d̂ cannot reach d̂ this stage (the boxes below are coarser: a flat
   // cloth's neighbours)
-  auto add = [&](PairKind kind, std::array<int, 4> v, std::array<bool, 4> onBody, int count, real weight) {
+  auto add = [&](DynamicArray<Pair>& out, PairKind kind, std::array<int, 4> v, std::array<bool, 4> onBody, int count,
+                 real weight) {
     if (!(weight > 0)) return;
     // self contact: never between primitives that share a vertex or that are
     // already within reach in the rest shape (a rod's neighbouring segments
@@ -870,7 +874,7 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
     if (self && Gap(pair, x_, nullptr) > SelfReach(pair) + dhat) return;
     if (kind == PairKind::EdgeEdge)
       pair.mollifierThreshold = contact::EdgeEdgeMollifierThreshold(x_[v[0]], x_[v[1]], x_[v[2]], x_[v[3]]);
-    pairs_.push_back(pair);
+    out.push_back(pair);
   };
   int const nb = static_cast<int>(body.local_.size());
   if (obstacle.shape_ == ShapeType::Plane) {
@@ -880,15 +884,15 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
     Real3 const endNormal = (obstacle.stageTarget_.rotation * obstacle.shapeNormal_).normalized();
     real const endOffset = endNormal.dot(obstacle.stageTarget_.position);
     real const angle = obstacle.stageStart_.rotation.angularDistance(obstacle.stageTarget_.rotation);
-    for (int i = 0; i < nb; ++i) {
+    AppendPairsInOrder(nb, [&](int i, DynamicArray<Pair>& out) {
       real gap = obstacle.planeNormal_.dot(x_[fb + i]) - obstacle.planeOffset_ - thickness;
       if (sweeps)
         gap = std::min(gap, endNormal.dot(x_[fb + i]) - endOffset - thickness) -
               angle * ((x_[fb + i] - obstacle.stageStart_.position).norm() +
                        (obstacle.stageTarget_.position - obstacle.stageStart_.position).norm());
       if (gap < dhat + bound_[fb + i])
-        add(PairKind::PlaneVertex, {fb + i, -1, -1, -1}, {true, false, false, false}, 1, body.vertexArea_[i]);
-    }
+        add(out, PairKind::PlaneVertex, {fb + i, -1, -1, -1}, {true, false, false, false}, 1, body.vertexArea_[i]);
+    });
     return;
   }
   // the body's primitives over the stage: their start boxes inflated by the
@@ -901,56 +905,70 @@ void ContactSystem::AddPairs(int bodyIndex, int obstacleIndex) {
   // free obstacle points (spheres) and segments (capsules)
   boxes.clear();
   for (int i = 0; i < nb; ++i) boxes.push_back(self ? SelfBox({fb + i}, margin) : BoxOf(x_, {fb + i}, margin));
-  trees.triangles.FindPairsWith(boxes, found);
-  for (auto [t, i] : found) {
+  // (each query's pairs are found on the stage's threads, then filtered by
+  // add there, in the order found)
+  auto each = [&](contact::Bvh const& tree, auto&& make) {
+    FindBoxPairs(tree, boxes, found);
+    AppendPairsInOrder(static_cast<int>(found.size()),
+                       [&](int k, DynamicArray<Pair>& out) { make(out, found[k].i, found[k].j); });
+  };
+  each(trees.triangles, [&](DynamicArray<Pair>& out, int t, int i) {
     auto const& tri = obstacle.triangles_[t];
-    add(PairKind::PointTriangle, {fb + i, fo + tri[0], fo + tri[1], fo + tri[2]}, {true, false, false, false}, 4,
-        body.vertexArea_[i]);
-  }
-  trees.edges.FindPairsWith(boxes, found);
-  for (auto [e, i] : found)
+    add(out, PairKind::PointTriangle, {fb + i, fo + tri[0], fo + tri[1], fo + tri[2]}, {true, false, false, false},
+        4, body.vertexArea_[i]);
+  });
+  each(trees.edges, [&](DynamicArray<Pair>& out, int e, int i) {
     if (obstacle.freeEdge_[e] && body.freeVertex_[i])  // a vertex on an edge: edge–edge covers it
-      add(PairKind::PointEdge, {fb + i, fo + obstacle.edges_[e][0], fo + obstacle.edges_[e][1], -1},
+      add(out, PairKind::PointEdge, {fb + i, fo + obstacle.edges_[e][0], fo + obstacle.edges_[e][1], -1},
           {true, false, false, false}, 3, body.vertexArea_[i]);
-  trees.vertices.FindPairsWith(boxes, found);
-  for (auto [j, i] : found)
+  });
+  each(trees.vertices, [&](DynamicArray<Pair>& out, int j, int i) {
     if (obstacle.freeVertex_[j] && body.freeVertex_[i])
-      add(PairKind::PointPoint, {fb + i, fo + j, -1, -1}, {true, false, false, false}, 2,
+      add(out, PairKind::PointPoint, {fb + i, fo + j, -1, -1}, {true, false, false, false}, 2,
           std::max(body.vertexArea_[i], obstacle.vertexArea_[j]));
+  });
   if (self) {
     // the loops below would find the same pairs again, from the other side
     boxes.clear();
     for (auto const& e : body.edges_) boxes.push_back(SelfBox({fb + e[0], fb + e[1]}, margin));
-    trees.edges.FindPairsWith(boxes, found);
-    for (auto [f, e] : found)
+    each(trees.edges, [&](DynamicArray<Pair>& out, int f, int e) {
       if (e < f)
-        add(PairKind::EdgeEdge, {fb + body.edges_[e][0], fb + body.edges_[e][1], fb + body.edges_[f][0],
-                                 fb + body.edges_[f][1]},
+        add(out, PairKind::EdgeEdge,
+            {fb + body.edges_[e][0], fb + body.edges_[e][1], fb + body.edges_[f][0], fb + body.edges_[f][1]},
             {true, true, false, false}, 4, std::max(body.edgeArea_[e], body.edgeArea_[f]));
+    });
     return;
   }
   // obstacle vertices against body triangles
   boxes.clear();
   for (auto const& t : body.triangles_) boxes.push_back(BoxOf(x_, {fb + t[0], fb + t[1], fb + t[2]}, margin));
-  trees.vertices.FindPairsWith(boxes, found);
-  for (auto [j, t] : found) {
+  each(trees.vertices, [&](DynamicArray<Pair>& out, int j, int t) {
     auto const& tri = body.triangles_[t];
-    add(PairKind::PointTriangle, {fo + j, fb + tri[0], fb + tri[1], fb + tri[2]}, {false, true, true, true}, 4,
+    add(out, PairKind::PointTriangle, {fo + j, fb + tri[0], fb + tri[1], fb + tri[2]}, {false, true, true, true}, 4,
         std::max(obstacle.vertexArea_[j], TriangleArea(x_[fb + tri[0]], x_[fb + tri[1]], x_[fb + tri[2]])));
-  }
+  });
   // edges against edges, and free obstacle points against free body segments
   boxes.clear();
   for (auto const& e : body.edges_) boxes.push_back(BoxOf(x_, {fb + e[0], fb + e[1]}, margin));
-  trees.edges.FindPairsWith(boxes, found);
-  for (auto [f, e] : found)
-    add(PairKind::EdgeEdge, {fb + body.edges_[e][0], fb + body.edges_[e][1], fo + obstacle.edges_[f][0],
-                             fo + obstacle.edges_[f][1]},
+  each(trees.edges, [&](DynamicArray<Pair>& out, int f, int e) {
+    add(out, PairKind::EdgeEdge,
+        {fb + body.edges_[e][0], fb + body.edges_[e][1], fo + obstacle.edges_[f][0], fo + obstacle.edges_[f][1]},
         {true, true, false, false}, 4, std::max(body.edgeArea_[e], obstacle.edgeArea_[f]));
-  trees.vertices.FindPairsWith(boxes, found);
-  for (auto [j, e] : found)
+  });
+  each(trees.vertices, [&](DynamicArray<Pair>& out, int j, int e) {
     if (obstacle.freeVertex_[j] && body.freeEdge_[e])
-      add(PairKind::PointEdge, {fo + j, fb + body.edges_[e][0], fb + body.edges_[e][1], -1},
+      add(out, PairKind::PointEdge, {fo + j, fb + body.edges_[e][0], fb + body.edges_[e][1], -1},
           {false, true, true, false}, 3, body.edgeArea_[e]);
+  });
+}
+
+void ContactSystem::FindBoxPairs(contact::Bvh const& tree, DynamicArray<contact::Aabb> const& boxes,
+                                 DynamicArray<contact::IndexPair>& found) {
+  if (executor_) {
+    tree.FindPairsWith(boxes, found, *executor_, queryChunks_);
+  } else {
+    tree.FindPairsWith(boxes, found);
+  }
 }
 
 // ---- one pair ----
@@ -981,37 +999,58 @@ real ContactSystem::RestGap(int colliderIndex, PairKind kind, std::array<int, 4>
   return std::sqrt(d2) - 2 * c.thickness_;
 }
 
+real ContactSystem::BoxGap(Pair const& pair) const {
+  // the two sides: the point and the triangle, the two edges, the point and
+  // the edge, the two points
+  int const split = pair.kind == PairKind::EdgeEdge ? 2 : 1;
+  Real3 lower[2], upper[2];
+  for (int k = 0; k < pair.numVertices; ++k) {
+    int const side = k < split ? 0 : 1;
+    Real3 const& p = x_[pair.v[k]];
+    bool const first = k == 0 || k == split;
+    lower[side] = first ? p : Real3(lower[side].cwiseMin(p));
+    upper[side] = first ? p : Real3(upper[side].cwiseMax(p));
+  }
+  Real3 const apart = (lower[0] - upper[1]).cwiseMax(lower[1] - upper[0]).cwiseMax(0);
+  return apart.norm() - pair.thickness;
+}
+
 real ContactSystem::Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12* gradient) const {
-  auto const& v = pair.v;
+  std::array<Real3, 4> p;
+  for (int k = 0; k < pair.numVertices; ++k) p[k] = x[pair.v[k]];
+  return GapAt(pair, p, gradient);
+}
+
+real ContactSystem::GapAt(Pair const& pair, std::array<Real3, 4> const& x, Vector12* gradient) const {
   if (pair.kind == PairKind::PlaneVertex) {
     Collider const& plane = *colliders_[pair.obstacle];
     if (gradient) *gradient << plane.planeNormal_, Real3::Zero(), Real3::Zero(), Real3::Zero();
-    return plane.planeNormal_.dot(x[v[0]]) - plane.planeOffset_ - pair.thickness;
+    return plane.planeNormal_.dot(x[0]) - plane.planeOffset_ - pair.thickness;
   }
   real d2 = 0;
   Vector12 g = Vector12::Zero();
   switch (pair.kind) {
     case PairKind::PointTriangle: {
-      auto const type = contact::PointTriangleDistanceType(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
-      d2 = contact::PointTriangleDistance2(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
-      if (gradient) g = contact::PointTriangleDistance2Gradient(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
+      auto const type = contact::PointTriangleDistanceType(x[0], x[1], x[2], x[3]);
+      d2 = contact::PointTriangleDistance2(x[0], x[1], x[2], x[3], type);
+      if (gradient) g = contact::PointTriangleDistance2Gradient(x[0], x[1], x[2], x[3], type);
       break;
     }
     case PairKind::EdgeEdge: {
-      auto const type = contact::EdgeEdgeDistanceType(x[v[0]], x[v[1]], x[v[2]], x[v[3]]);
-      d2 = contact::EdgeEdgeDistance2(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
-      if (gradient) g = contact::EdgeEdgeDistance2Gradient(x[v[0]], x[v[1]], x[v[2]], x[v[3]], type);
+      auto const type = contact::EdgeEdgeDistanceType(x[0], x[1], x[2], x[3]);
+      d2 = contact::EdgeEdgeDistance2(x[0], x[1], x[2], x[3], type);
+      if (gradient) g = contact::EdgeEdgeDistance2Gradient(x[0], x[1], x[2], x[3], type);
       break;
     }
     case PairKind::PointEdge: {
-      auto const type = contact::PointEdgeDistanceType(x[v[0]], x[v[1]], x[v[2]]);
-      d2 = contact::PointEdgeDistance2(x[v[0]], x[v[1]], x[v[2]], type);
-      if (gradient) g.head<9>() = contact::PointEdgeDistance2Gradient(x[v[0]], x[v[1]], x[v[2]], type);
+      auto const type = contact::PointEdgeDistanceType(x[0], x[1], x[2]);
+      d2 = contact::PointEdgeDistance2(x[0], x[1], x[2], type);
+      if (gradient) g.head<9>() = contact::PointEdgeDistance2Gradient(x[0], x[1], x[2], type);
       break;
     }
     case PairKind::PointPoint:
-      d2 = contact::PointPointDistance2(x[v[0]], x[v[1]]);
-      if (gradient) g.head<6>() = contact::PointPointDistance2Gradient(x[v[0]], x[v[1]]);
+      d2 = contact::PointPointDistance2(x[0], x[1]);
+      if (gradient) g.head<6>() = contact::PointPointDistance2Gradient(x[0], x[1]);
       break;
     case PairKind::PlaneVertex: break;
   }
@@ -1103,6 +1142,9 @@ contact::ValueGradientHessian<12> ContactSystem::PairBarrier(Pair const& pair, b
   real const kw = params_.stiffness * pair.weight;
   auto const& x = x_;
   auto const& v = pair.v;
+  // most candidates are beyond d̂: their boxes' gap says so without a
+  // distance (a lower bound of it: the barrier is zero, as it would be)
+  if (pair.kind != PairKind::PlaneVertex && BoxGap(pair) >= dhat) return e;
   real const d = Gap(pair, x_);
   if (!(d > 0)) {
     e.value = std::numeric_limits<real>::infinity();
@@ -1206,7 +1248,12 @@ void ContactSystem::AppendStageContributorDofs(StageDofLists& dofLists) const {
 void ContactSystem::AddEnergy(HessianAssembler const&, int, EnergySum& sum) const {
   ScopedSeconds timer(times_.narrowPhase);
   UpdatePositions(x_);
-  for (Pair const& pair : pairs_) sum.Add(PairBarrier(pair, false).value + PairFriction(pair, x_).energy);
+  // each pair's on the stage's threads, summed in pair order
+  int const count = static_cast<int>(pairs_.size());
+  ForPairs(count, [this](int begin, int end) {
+    for (int p = begin; p < end; ++p) pairValue_[p] = PairBarrier(pairs_[p], false).value + PairFriction(pairs_[p], x_).energy;
+  });
+  for (int p = 0; p < count; ++p) sum.Add(pairValue_[p]);
 }
 
 void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, AssemblyOptions const& options) const {
@@ -1219,7 +1266,10 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
   using DofMatrix = Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxDofs, kMaxDofs>;
   using VertexJacobian = Eigen::Matrix<real, 12, Eigen::Dynamic, 0, 12, kMaxDofs>;
   using SlipJacobian = Eigen::Matrix<real, 3, Eigen::Dynamic, 0, 3, kMaxDofs>;
-  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+  // each pair writes only its own staging slots (AddDynamicBlock): any
+  // order, any thread
+  assembler.ParallelFor(static_cast<int>(pairs_.size()), kPairGrain, [&](int begin, int end, int) {
+  for (int p = begin; p < end; ++p) {
     Pair const& pair = pairs_[p];
     contact::ValueGradientHessian<12> const e = PairBarrier(pair, true, options.projectHessian);
     int const n = 3 * pair.numVertices;
@@ -1322,10 +1372,11 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
         Hq.block(f, f, dofs, dofs).noalias() += turn.transpose() * turned;
         path.AddCurvature(wrenchForce[side], wrenchMoment[side], [f](int i) { return f + i; }, Hq);
       }
-    int const contributor = options.firstStageContributor + static_cast<int>(p);
+    int const contributor = options.firstStageContributor + p;
     assembler.AddDynamicGradient(contributor, gq);
     assembler.AddDynamicBlock(contributor, Hq);
   }
+  });
 }
 
 int ContactSystem::PairDofCount(Pair const& pair) const {
@@ -1393,6 +1444,7 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
   real const target = (1 - contact::kCcdRescale) * gap0;
   real const stop = contact::kCcdStopFraction * contact::kCcdRescale * gap0;
   real t = 0;
+  std::array<Real3, 4> trial;  // the pair's vertices at t (its own: pairs run concurrently)
   for (int iteration = 0; iteration < params_.ccdMaxIterations; ++iteration) {
     for (int side = 0; side < 2; ++side) {
       SideMotion const& s = motion[side];
@@ -1403,18 +1455,17 @@ real ContactSystem::RigidPairCcd(Pair const& pair, Span<real const> delta, real 
         int const first = firstVertex_[side == 0 ? pair.body : pair.obstacle];
         for (int k = 0; k < pair.numVertices; ++k)
           if (pair.onBody[k] == (side == 0))
-            trial_[pair.v[k]] = origin + rotation * s.link->local_[pair.v[k] - first].local;
+            trial[k] = origin + rotation * s.link->local_[pair.v[k] - first].local;
         continue;
       }
       Real33 const turn = s.rigid ? ExpMatrix(t * s.dr) : Real33::Identity();
       for (int k = 0; k < pair.numVertices; ++k) {
         if (pair.onBody[k] != (side == 0)) continue;
         Real3 const& x = x_[pair.v[k]];
-        trial_[pair.v[k]] = s.rigid ? Real3(s.center + t * s.dt + turn * (x - s.center))
-                                    : Real3(x + t * displacement_[pair.v[k]]);
+        trial[k] = s.rigid ? Real3(s.center + t * s.dt + turn * (x - s.center)) : Real3(x + t * displacement_[pair.v[k]]);
       }
     }
-    real const gap = Gap(pair, trial_) - t * planeShift_[pair.obstacle];  // a moving plane's shift
+    real const gap = GapAt(pair, trial) - t * planeShift_[pair.obstacle];  // a moving plane's shift
     if (gap - target <= stop) return t;
     t += (gap - target) / speed;
     if (t >= tMax) return tMax;
@@ -1512,11 +1563,20 @@ real ContactSystem::LargestSafeStep(Span<real const> delta, real alpha) const {
   // body's mean displacement
   for (int c = 0; c < static_cast<int>(colliders_.size()); ++c)
     if (HasSelfBound(c)) safe = std::min(safe, SelfSafeStep(c, safe));
-  // continuous collision detection of every candidate along the step
-  for (Pair const& pair : pairs_)
-    safe = colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid() ? RigidPairCcd(pair, delta, safe)
-                                                                             : safe * LinearPairCcd(pair, x_, safe);
-  return safe;
+  // continuous collision detection of every candidate along the step, each
+  // up to the same α (its own result; the smallest wins whatever the order)
+  int const count = static_cast<int>(pairs_.size());
+  ForPairs(count, [&](int begin, int end) {
+    for (int p = begin; p < end; ++p) {
+      Pair const& pair = pairs_[p];
+      pairValue_[p] = colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid()
+                          ? RigidPairCcd(pair, delta, safe)
+                          : safe * LinearPairCcd(pair, x_, safe);
+    }
+  });
+  real result = safe;
+  for (int p = 0; p < count; ++p) result = std::min(result, pairValue_[p]);
+  return result;
 }
 
 void ContactSystem::LimitStepPerDof(Span<real> delta) const {
@@ -1530,10 +1590,18 @@ void ContactSystem::LimitStepPerDof(Span<real> delta) const {
       real const step = displacement_[i].norm();
       if (step > 0) vertexFraction_[i] = std::min(real(1), BoundRoom(i) / step);
     }
-  for (Pair const& pair : pairs_) {
-    if (colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid()) continue;
-    real const fraction = LinearPairCcd(pair, x_, 1);
+  int const count = static_cast<int>(pairs_.size());
+  ForPairs(count, [this](int begin, int end) {
+    for (int p = begin; p < end; ++p) {
+      Pair const& pair = pairs_[p];
+      bool const rigid = colliders_[pair.body]->IsRigid() || colliders_[pair.obstacle]->IsRigid();
+      pairValue_[p] = rigid ? 1 : LinearPairCcd(pair, x_, 1);
+    }
+  });
+  for (int p = 0; p < count; ++p) {
+    real const fraction = pairValue_[p];
     if (fraction >= 1) continue;
+    Pair const& pair = pairs_[p];
     for (int k = 0; k < pair.numVertices; ++k) vertexFraction_[pair.v[k]] = std::min(vertexFraction_[pair.v[k]], fraction);
   }
   // the nodal vertices' shares of δ scaled by them
@@ -1571,18 +1639,26 @@ bool ContactSystem::RecenterStepBounds() {
   ++treeStamp_;
   FindPairs();
   keptFound_.assign(keptPairs_.size(), 0);
-  for (Pair& pair : pairs_) {
+  pairValue_.resize(pairs_.size());
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    Pair& pair = pairs_[p];
     auto const it = std::lower_bound(keptKeys_.begin(), keptKeys_.end(), std::make_pair(pair.key, -1));
-    if (it != keptKeys_.end() && it->first == pair.key) {
+    bool const kept = it != keptKeys_.end() && it->first == pair.key;
+    if (kept) {
       pair = keptPairs_[it->second];
       keptFound_[it->second] = 1;
-    } else {
-      LagFriction(pair);  // beyond d̂ at the stage start: no normal force
     }
+    pairValue_[p] = kept;
   }
+  // a new pair is beyond d̂ at the stage start: no normal force
+  ForPairs(static_cast<int>(pairs_.size()), [this](int begin, int end) {
+    for (int p = begin; p < end; ++p)
+      if (pairValue_[p] == 0) LagFriction(pairs_[p]);
+  });
   // a pair out of reach now keeps its friction (its barrier is zero)
   for (std::size_t p = 0; p < keptPairs_.size(); ++p)
     if (!keptFound_[p] && keptPairs_[p].lambda > 0) pairs_.push_back(keptPairs_[p]);
+  pairValue_.resize(pairs_.size());
   return true;
 }
 
@@ -1605,8 +1681,11 @@ bool ContactSystem::AcceptsFirstIterate() const {
     for (int i = first; i < first + count; ++i)
       if ((displacement_[i] - mean).norm() > vertexSelfBound_[i]) return false;
   }
-  return std::all_of(pairs_.begin(), pairs_.end(),
-                     [&](Pair const& pair) { return LinearPairCcd(pair, x0_, 1) >= 1; });
+  int const count = static_cast<int>(pairs_.size());
+  ForPairs(count, [this](int begin, int end) {
+    for (int p = begin; p < end; ++p) pairValue_[p] = LinearPairCcd(pairs_[p], x0_, 1);
+  });
+  return std::all_of(pairValue_.begin(), pairValue_.begin() + count, [](real fraction) { return fraction >= 1; });
 }
 
 // ---- the stage end ----

@@ -23,6 +23,7 @@
 // blocks (the pattern grows in its kept order).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
@@ -353,6 +354,11 @@ class ContactSystem final : public StageTerm {
   /// positions x, and with `gradient` its derivative w.r.t. the pair's
   /// vertices (3·numVertices of 12).
   real Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12* gradient = nullptr) const;
+  /// A lower bound of the gap at x_ (not a PlaneVertex pair): the distance
+  /// between the boxes of the pair's two sides, less the thickness.
+  real BoxGap(Pair const& pair) const;
+  /// As Gap with the pair's vertices at `p` (p[k]: vertex k of the pair).
+  real GapAt(Pair const& pair, std::array<Real3, 4> const& p, Vector12* gradient = nullptr) const;
   /// The slip from the pair's anchor at positions x (world, not projected).
   Real3 Slip(Pair const& pair, DynamicArray<Real3> const& x) const;
   /// The barrier energy of the pair at x_ and, with `derivatives`, its
@@ -377,6 +383,48 @@ class ContactSystem final : public StageTerm {
   /// pair: conservative advancement on the vertices' arcs.
   real RigidPairCcd(Pair const& pair, Span<real const> delta, real tMax) const;
   void PairDofs(Pair const& pair, DynamicArray<int>& dofs) const;
+
+  // ---- threads (the stage's executor; results bit-identical for any
+  // number: each pair's result lands in its own slot, and what is summed is
+  // summed in pair order) ----
+  /// Pairs per chunk of the parallel loops over pairs and found box pairs
+  static constexpr int kPairGrain = 128;
+  /// Runs f(begin, end) over [0, count) on the stage's threads (serially
+  /// without them).
+  template <class F>
+  void ForPairs(int count, F&& f) const {
+    if (executor_) {
+      executor_->For(count, kPairGrain, [&f](int begin, int end, int) { f(begin, end); });
+    } else if (count > 0) {
+      f(0, count);
+    }
+  }
+  /// Appends to pairs_ the pairs make(k, out) appends to `out`, for k in
+  /// [0, count) and in the order of k: chunks of k on the stage's threads,
+  /// each into its own buffer (chunkPairs_), concatenated in chunk order.
+  template <class Make>
+  void AppendPairsInOrder(int count, Make&& make) {
+    int const numChunks = (count + kPairGrain - 1) / kPairGrain;
+    if (static_cast<int>(chunkPairs_.size()) < numChunks) chunkPairs_.resize(numChunks);
+    auto const fill = [&](int begin, int end, int) {
+      for (int chunk = begin; chunk < end; ++chunk) {
+        DynamicArray<Pair>& out = chunkPairs_[chunk];
+        out.clear();
+        for (int k = chunk * kPairGrain, last = std::min(count, k + kPairGrain); k < last; ++k) make(k, out);
+      }
+    };
+    if (executor_) {
+      executor_->For(numChunks, 1, fill);
+    } else {
+      fill(0, numChunks, 0);
+    }
+    for (int chunk = 0; chunk < numChunks; ++chunk)
+      pairs_.insert(pairs_.end(), chunkPairs_[chunk].begin(), chunkPairs_[chunk].end());
+  }
+  /// The pairs of a tree and query boxes (contact::Bvh::FindPairsWith), on
+  /// the stage's threads.
+  void FindBoxPairs(contact::Bvh const& tree, DynamicArray<contact::Aabb> const& boxes,
+                    DynamicArray<contact::IndexPair>& found);
 
   ContactParams params_;
   DynamicArray<std::unique_ptr<Collider>> colliders_;
@@ -403,7 +451,11 @@ class ContactSystem final : public StageTerm {
   /// The friction anchors of the sticking and sliding contacts (pair key,
   /// slip offset), sorted by key: storage kept from stage to stage
   DynamicArray<std::pair<std::uint64_t, Real3>> anchors_, savedAnchors_;
-  mutable DynamicArray<Real3> displacement_, trial_;
+  mutable DynamicArray<Real3> displacement_;
+  ParallelExecutor const* executor_ = nullptr;  ///< the stage's threads (BeginStage)
+  mutable DynamicArray<real> pairValue_;         ///< per pair: an energy or a fraction (storage kept)
+  DynamicArray<DynamicArray<Pair>> chunkPairs_;  ///< AppendPairsInOrder's buffers (storage kept)
+  DynamicArray<DynamicArray<contact::IndexPair>> queryChunks_;  ///< FindBoxPairs' (storage kept)
   int active_ = 0;
   real minDistance_ = 0;
   real stepFrom_ = 0, stepTo_ = 1;  ///< SetStepFraction

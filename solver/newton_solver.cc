@@ -148,6 +148,7 @@ void NewtonSolver::AddAnalysisTimes(SceneStats& stats) const {
 
 bool NewtonSolver::Solve(int stageIndex, StageContext stage, NewtonParams const& newton, SceneStats& stats,
                          Error& error) {
+  stage.executor = &executor_;
   if (!BeginStage(stage, newton, stats, error)) return false;
   real energy = convergence_.Energy();
   if (!std::isfinite(energy))

@@ -41,6 +41,10 @@ struct StageContext {
   /// WriteDofInverseMasses), indexed by global DoF.
   real nearRigidBeta = 0;
   Span<real const> inverseMasses;
+  /// The threads a term may run its own loops on during the stage (its
+  /// safe step, its candidate search; results must not depend on their
+  /// number); nullptr: serially. Outlives the stage.
+  ParallelExecutor const* executor = nullptr;
 };
 
 /// Eᵢ and the magnitude of its round-off, summed term by term in a fixed

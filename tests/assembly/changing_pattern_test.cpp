@@ -52,8 +52,10 @@ struct Assembled {
 
 // assembles the static contributors, then `dynamicLists` through the second
 // family (or, with `asStatic`, the same lists as static contributors after
-// the chain's: what a fresh analysis of all of them adds, in the same order)
-Assembled Assemble(internal::HessianAssembler& assembler, int numStatic, int numDynamic, int stage, bool asStatic) {
+// the chain's: what a fresh analysis of all of them adds, in the same order);
+// with `skipEven`, the even-numbered ones add nothing in this assembly
+Assembled Assemble(internal::HessianAssembler& assembler, int numStatic, int numDynamic, int stage, bool asStatic,
+                   bool skipEven = false) {
   int const n = 3 * kBlocks;
   DynamicArray<real> gradient(n, 0);
   assembler.BeginAssembly(gradient);
@@ -63,6 +65,7 @@ Assembled Assemble(internal::HessianAssembler& assembler, int numStatic, int num
     assembler.AddBlock(c, BlockValues(size, c));
   }
   for (int k = 0; k < numDynamic; ++k) {
+    if (skipEven && k % 2 == 0) continue;
     int const seed = 1000 + 7 * k + stage;
     if (asStatic) {
       assembler.AddGradient(numStatic + k, GradientValues(6, seed));
@@ -77,7 +80,8 @@ Assembled Assemble(internal::HessianAssembler& assembler, int numStatic, int num
 }
 
 // a fresh analysis of the chain and `pairs` together, assembled at `stage`
-Assembled Fresh(DynamicArray<DynamicArray<int>> const& pairs, int stage, internal::ParallelExecutor const* executor) {
+Assembled Fresh(DynamicArray<DynamicArray<int>> const& pairs, int stage, internal::ParallelExecutor const* executor,
+                bool skipEven = false) {
   DynamicArray<DynamicArray<int>> all = Chain();
   int const numStatic = static_cast<int>(all.size());
   all.insert(all.end(), pairs.begin(), pairs.end());
@@ -85,7 +89,7 @@ Assembled Fresh(DynamicArray<DynamicArray<int>> const& pairs, int stage, interna
   fresh.SetExecutor(executor);
   Error error;
   REQUIRE(fresh.Analyze(3 * kBlocks, BlockSizes(), all, OrderingMethod::Metis, error));
-  return Assemble(fresh, numStatic, static_cast<int>(pairs.size()), stage, true);
+  return Assemble(fresh, numStatic, static_cast<int>(pairs.size()), stage, true, skipEven);
 }
 
 // the natural-order permutation of the assembler (ordered position per DoF)
@@ -96,6 +100,21 @@ DynamicArray<real> Ordering(internal::HessianAssembler const& assembler) {
   assembler.PermuteToOrdered(natural, ordered);
   return ordered;
 }
+
+// the chain analysed, its contributors on `threads` threads
+struct ChainAssembler {
+  internal::ParallelExecutor executor;
+  internal::HessianAssembler assembler;
+  int numStatic = 0;
+  explicit ChainAssembler(int threads) {
+    executor.SetNumThreads(threads);
+    assembler.SetExecutor(&executor);
+    DynamicArray<DynamicArray<int>> const chain = Chain();
+    numStatic = static_cast<int>(chain.size());
+    Error error;
+    REQUIRE(assembler.Analyze(3 * kBlocks, BlockSizes(), chain, OrderingMethod::Metis, error));
+  }
+};
 }  // namespace
 
 TEST_CASE("contributors whose pairs come and go: the pattern grows in the kept order, fits, and assembles as a "
@@ -103,14 +122,11 @@ TEST_CASE("contributors whose pairs come and go: the pattern grows in the kept o
           "[assembly][pattern]") {
   int const threads = GENERATE(1, 2);
   CAPTURE(threads);
-  internal::ParallelExecutor executor;
-  executor.SetNumThreads(threads);
-  internal::HessianAssembler assembler;
-  assembler.SetExecutor(&executor);
-  DynamicArray<DynamicArray<int>> const chain = Chain();
-  int const numStatic = static_cast<int>(chain.size());
+  ChainAssembler chain(threads);
+  internal::HessianAssembler& assembler = chain.assembler;
+  internal::ParallelExecutor const& executor = chain.executor;
+  int const numStatic = chain.numStatic;
   Error error;
-  REQUIRE(assembler.Analyze(3 * kBlocks, BlockSizes(), chain, OrderingMethod::Metis, error));
   REQUIRE(assembler.GetNumPatternBuilds() == 1);
   DynamicArray<real> const order = Ordering(assembler);
   std::int64_t const chainEntries = assembler.CountOwnedColumnEntries();
@@ -225,4 +241,31 @@ TEST_CASE("a changing contributor with a bad DoF list is refused and changes not
     CHECK(assembler.GetMatrix().patternVersion == version);
     CHECK(assembler.GetNumDynamicContributors() == 1);
   }
+}
+
+TEST_CASE("a contributor of the second family that adds nothing in an assembly contributes nothing to it",
+          "[assembly][pattern]") {
+  // contact candidates beyond reach skip their add: what they added in the
+  // assembly before must not stay in the sums (their stages are not zeroed:
+  // only those stamped in this assembly are summed)
+  ChainAssembler chain(GENERATE(1, 2));
+  auto& [executor, assembler, numStatic] = chain;
+  Error error;
+  DynamicArray<DynamicArray<int>> const pairs{Pair(0, 5), Pair(2, 9), Pair(4, 11), Pair(1, 7)};
+  internal::HessianAssembler::DynamicUpdate update;
+  REQUIRE(assembler.SetDynamicContributors(pairs, update, error));
+  int const numDynamic = static_cast<int>(pairs.size());
+  Assembled const all = Assemble(assembler, numStatic, numDynamic, 0, false);
+  REQUIRE((all.hessian - Fresh(pairs, 0, &executor).hessian).norm() == 0);
+  // every other one skips the next assembly
+  Assembled const some = Assemble(assembler, numStatic, numDynamic, 1, false, true);
+  Assembled const fresh = Fresh(pairs, 1, &executor, true);
+  REQUIRE((some.hessian - fresh.hessian).norm() == 0);
+  REQUIRE((some.gradient - fresh.gradient).norm() == 0);
+  REQUIRE((some.hessian - all.hessian).norm() > 0);
+  // and a new stage: nothing of the last one's
+  REQUIRE(assembler.SetDynamicContributors(pairs, update, error));
+  Assembled const again = Assemble(assembler, numStatic, numDynamic, 1, false, true);
+  REQUIRE((again.hessian - fresh.hessian).norm() == 0);
+  REQUIRE((again.gradient - fresh.gradient).norm() == 0);
 }

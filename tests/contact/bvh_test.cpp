@@ -1,8 +1,9 @@
 // The broad phase (contact/bvh.h): every query against the brute-force
 // O(N²) answer, compared as whole lists (same pairs, same order), on box sets
 // of several sizes and shapes, before and after a refit; the self query's
-// skip predicate; the two-set query; the swept and inflated boxes; and that
-// repeated queries reuse their output vectors.
+// skip predicate; the two-set query, serial and on several threads; the
+// swept and inflated boxes; and that repeated queries reuse their output
+// vectors.
 //
 // The brute force judges overlap by its own rule (the intervals' largest
 // lower end at most their smallest upper end, per axis), not by the
@@ -118,6 +119,16 @@ void RequireQueriesMatchBruteForce(Bvh const& bvh, DynamicArray<Aabb> const& box
 
   bvh.FindPairsWith(others, pairs);
   REQUIRE(pairs == BrutePairs(boxes, others));
+  // the two-set query on several threads, its queries in chunks: the same
+  // list for any thread count (and the chunks' storage reused)
+  DynamicArray<DynamicArray<IndexPair>> chunks;
+  for (int threads : {1, 3, 4}) {
+    internal::ParallelExecutor executor;
+    executor.SetNumThreads(threads);
+    DynamicArray<IndexPair> threaded;
+    bvh.FindPairsWith(others, threaded, executor, chunks);
+    REQUIRE(threaded == pairs);
+  }
 }
 
 }  // namespace
@@ -145,7 +156,9 @@ TEST_CASE("Self, single-box and two-set queries equal brute force on random box 
   // for 1000 boxes; small sets packed tighter so that they overlap at all
   real const extent = count >= 1000 ? 10 : 1;
   DynamicArray<Aabb> const boxes = RandomBoxes(count, extent, 0.6, rng);
+  // (1000 boxes: more queries than one chunk of the threaded query)
   DynamicArray<Aabb> const others = RandomBoxes(count / 2 + 3, extent, 0.6, rng);
+  static_assert(Bvh::kQueryChunk < 1000 / 2);
   Bvh const bvh = MakeBvh(boxes);
   RequireQueriesMatchBruteForce(bvh, boxes, others, rng);
   if (count >= 5) {
