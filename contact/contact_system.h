@@ -21,6 +21,12 @@
 // not touch each other. A contact with an obstacle touches only its body's own DoF block, so
 // the analysed pattern always fits; one between two bodies joins their
 // blocks (the pattern grows in its kept order).
+//
+// Its loops over pairs (the candidate search's tree queries and filtering,
+// lagged friction, energies, assembly, CCD) run on the stage's threads
+// (StageContext::executor), each pair's result in its own slot and anything
+// summed summed in pair order: bit-identical for any thread count
+// (docs/contact.md, "Threads").
 #pragma once
 
 #include <algorithm>
