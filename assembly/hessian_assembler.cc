@@ -340,7 +340,16 @@ bool HessianAssembler::SetDynamicContributors(Span<DynamicArray<int> const> dofL
   dynamicSlots_.resize(static_cast<std::size_t>(dynamicSlotStart_.back()));
   auto const fillSlots = [&] {
     ParallelFor(static_cast<int>(dofLists.size()), kDynamicSlotGrain, [&](int begin, int end, int) {
-      for (int k = begin; k < end; ++k) FindSlots(dofLists[k], dynamicSlots_.data() + dynamicSlotStart_[k]);
+      for (int k = begin; k < end; ++k) {
+        int* const slots = dynamicSlots_.data() + dynamicSlotStart_[k];
+        // the pairs of two rigid bodies (or a body and the ground) come
+        // together with one list: its slots are the last one's
+        if (k > begin && dofLists[k] == dofLists[k - 1]) {
+          std::copy(slots - (dynamicSlotStart_[k] - dynamicSlotStart_[k - 1]), slots, slots);
+        } else {
+          FindSlots(dofLists[k], slots);
+        }
+      }
     });
   };
   fillSlots();
