@@ -211,6 +211,13 @@ void HessianAssembler::BuildPattern(DynamicArray<DynamicArray<int>> const& contr
   times.slotTableSeconds += SecondsSince(slotStartTime);
 }
 
+int HessianAssembler::SlotOf(SparseSymmetricMatrix const& matrix, int row, int col) {
+  auto const first = matrix.rowIndex.begin() + matrix.colStart[col];
+  auto const last = matrix.rowIndex.begin() + matrix.colStart[col + 1];
+  auto const found = std::lower_bound(first, last, row);
+  return found != last && *found == row ? static_cast<int>(found - matrix.rowIndex.begin()) : -1;
+}
+
 template <class Stored>
 void HessianAssembler::AppendSlots(SparseSymmetricMatrix const& matrix, DynamicArray<int> const& permutation,
                                    DynamicArray<int> const& dofs, Stored const& stored, DynamicArray<int>& slots,
@@ -225,11 +232,7 @@ void HessianAssembler::AppendSlots(SparseSymmetricMatrix const& matrix, DynamicA
         dropsEntries = true;
         continue;
       }
-      auto first = matrix.rowIndex.begin() + matrix.colStart[col];
-      auto last = matrix.rowIndex.begin() + matrix.colStart[col + 1];
-      auto const found = std::lower_bound(first, last, row);
-      // (a missing entry: the second family's caller grows the pattern first)
-      slots.push_back(found != last && *found == row ? static_cast<int>(found - matrix.rowIndex.begin()) : -1);
+      slots.push_back(SlotOf(matrix, row, col));  // (−1: a missing entry, for the second family's growth)
     }
 }
 
@@ -238,11 +241,7 @@ void HessianAssembler::FindSlots(DynamicArray<int> const& dofs, int* slots) cons
   for (int a = 0; a < n; ++a)
     for (int b = a; b < n; ++b) {
       int const pa = permutation_[dofs[a]], pb = permutation_[dofs[b]];
-      int const row = std::min(pa, pb), col = std::max(pa, pb);
-      auto const first = matrix_.rowIndex.begin() + matrix_.colStart[col];
-      auto const last = matrix_.rowIndex.begin() + matrix_.colStart[col + 1];
-      auto const found = std::lower_bound(first, last, row);
-      *slots++ = found != last && *found == row ? static_cast<int>(found - matrix_.rowIndex.begin()) : -1;
+      *slots++ = SlotOf(matrix_, std::min(pa, pb), std::max(pa, pb));
     }
 }
 

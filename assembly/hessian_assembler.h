@@ -312,6 +312,9 @@ class HessianAssembler {
   static void AppendSlots(SparseSymmetricMatrix const& matrix, DynamicArray<int> const& permutation,
                           DynamicArray<int> const& dofs, Stored const& stored, DynamicArray<int>& slots,
                           bool& dropsEntries);
+  /// The value index of entry (row, col), row <= col, of `matrix` (−1: not in
+  /// its pattern).
+  static int SlotOf(SparseSymmetricMatrix const& matrix, int row, int col);
   /// The slots of `dofs`' local upper triangle in the current pattern, n(n +
   /// 1)/2 of them into `slots` (−1 where an entry is missing).
   void FindSlots(DynamicArray<int> const& dofs, int* slots) const;

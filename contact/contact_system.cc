@@ -804,9 +804,7 @@ contact::Aabb ContactSystem::SelfBox(std::initializer_list<int> vertices, real m
 }
 
 real ContactSystem::SelfReach(Pair const& pair) const {
-  // the pair's two sides: the point and the triangle, the two edges, the
-  // point and the edge, the two points
-  int const split = pair.kind == PairKind::EdgeEdge ? 2 : 1;
+  int const split = SideSplit(pair.kind);
   real first = 0, second = 0;
   for (int k = 0; k < pair.numVertices; ++k) {
     real& side = k < split ? first : second;
@@ -1000,9 +998,7 @@ real ContactSystem::RestGap(int colliderIndex, PairKind kind, std::array<int, 4>
 }
 
 real ContactSystem::BoxGap(Pair const& pair) const {
-  // the two sides: the point and the triangle, the two edges, the point and
-  // the edge, the two points
-  int const split = pair.kind == PairKind::EdgeEdge ? 2 : 1;
+  int const split = SideSplit(pair.kind);
   Real3 lower[2], upper[2];
   for (int k = 0; k < pair.numVertices; ++k) {
     int const side = k < split ? 0 : 1;

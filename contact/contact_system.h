@@ -360,6 +360,10 @@ class ContactSystem final : public StageTerm {
   /// positions x, and with `gradient` its derivative w.r.t. the pair's
   /// vertices (3·numVertices of 12).
   real Gap(Pair const& pair, DynamicArray<Real3> const& x, Vector12* gradient = nullptr) const;
+  /// Where a pair's vertices split into its two sides (the point and the
+  /// triangle, the two edges, the point and the edge, the two points): the
+  /// first vertex of the second side.
+  static int SideSplit(PairKind kind) { return kind == PairKind::EdgeEdge ? 2 : 1; }
   /// A lower bound of the gap at x_ (not a PlaneVertex pair): the distance
   /// between the boxes of the pair's two sides, less the thickness.
   real BoxGap(Pair const& pair) const;
