@@ -464,13 +464,11 @@ Collider const* ContactSystem::GetCollider(int id) const {
 
 bool ContactSystem::MayTouch(int a, int b) const {
   // each unordered pair once: a body (side A) against an obstacle, or
-  // against a body of a later collider; the filter's bits; no self contact
+  // against a body of a later collider (a self pair: a == b)
   Collider const& ca = *colliders_[a];
   Collider const& cb = *colliders_[b];
-  if (a == b) return ca.shape_ == ShapeType::Surface && ((ca.group_ & ca.mask_) != 0);  // self contact
-  if (!ca.Moves() || (cb.Moves() && b <= a)) return false;
-  if (cb.Moves() && ca.actor_ == cb.actor_) return false;
-  return (ca.group_ & cb.mask_) && (cb.group_ & ca.mask_);
+  if (a != b && (!ca.Moves() || (cb.Moves() && b <= a))) return false;
+  return ca.MayTouch(cb);
 }
 
 // ---- a static obstacle's motion ----
@@ -491,6 +489,18 @@ bool CheckObstaclePose(Collider const& c, std::string const& call, Real3 const& 
 }  // namespace
 
 }  // namespace internal
+
+bool Collider::MayTouch(Collider const& other) const {
+  if (&other == this) return shape_ == ShapeType::Surface && (group_ & mask_) != 0;  // self contact
+  if (!Moves() && !other.Moves()) return false;
+  if (Moves() && other.Moves() && actor_ == other.actor_) {
+    // one actor's colliders: only two links of a mechanism that no joint joins
+    if (!articulated_ || !other.articulated_) return false;
+    int const a = path_.link, b = other.path_.link;
+    if (a == b || articulated_->GetParent(a) == b || articulated_->GetParent(b) == a) return false;
+  }
+  return (group_ & other.mask_) && (other.group_ & mask_);
+}
 
 void Collider::Place(Pose const& p) {
   if (now_ == p) return;
@@ -1211,6 +1221,17 @@ contact::TangentialFriction ContactSystem::PairFriction(Pair const& pair, Dynami
 // ---- the stage term ----
 
 void ContactSystem::PairDofs(Pair const& pair, DynamicArray<int>& dofs) const {
+  // two links of one mechanism: the union of their paths' DoFs, ascending
+  if (std::array<int, 2 * kMaxLinkPathDofs> place; int const shared = SharedPathColumns(pair, place)) {
+    int const begin = static_cast<int>(dofs.size());
+    dofs.resize(begin + shared);
+    int column = 0;
+    for (int side = 0; side < 2; ++side) {
+      Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
+      for (int k = 0; k < c.NumFrameDofs(); ++k) dofs[begin + place[column++]] = c.FrameDof(k);
+    }
+    return;
+  }
   // side A's DoFs, then side B's (none for a static obstacle): a rigid side's
   // 6, a link's path DoFs, a nodal side's 3 per vertex of the pair, in the
   // pair's vertex order
@@ -1235,6 +1256,21 @@ void ContactSystem::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLi
     dofLists.emplace_back();
     for (int k = 0; k < c->NumFrameDofs(); ++k) dofLists.back().push_back(c->FrameDof(k));
   }
+  // two links of one mechanism that may touch: the union of their paths, the
+  // block of their contacts (which couples two branches of the tree: the
+  // actor is then solved as one dense block, as with a constraint between
+  // two of its links)
+  int const count = static_cast<int>(colliders_.size());
+  for (int a = 0; a < count; ++a)
+    for (int b = a + 1; b < count; ++b) {
+      Collider const& ca = *colliders_[a];
+      Collider const& cb = *colliders_[b];
+      if (!ca.articulated_ || ca.articulated_ != cb.articulated_ || !MayTouch(a, b)) continue;
+      DynamicArray<int>& dofs = dofLists.emplace_back();
+      std::set_union(ca.path_.dofs.begin(), ca.path_.dofs.end(), cb.path_.dofs.begin(), cb.path_.dofs.end(),
+                     std::back_inserter(dofs));
+      for (int& dof : dofs) dof += ca.articulated_->GetDofOffset();
+    }
 }
 
 void ContactSystem::AppendStageContributorDofs(StageDofLists& dofLists) const {
@@ -1275,7 +1311,7 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
     // (PairDofs' order): J (vertices), Jf (slip), and each rigid side's
     // rotation curvature of the barrier and (a link) the barrier's wrench
     // on its frame
-    int const m = PairDofCount(pair);
+    int const m = PairColumnCount(pair);
     VertexJacobian J = VertexJacobian::Zero(12, m);
     SlipJacobian Jf = SlipJacobian::Zero(3, m);
     std::array<Real33, 2> curvature{Real33::Zero(), Real33::Zero()};
@@ -1369,13 +1405,46 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
         path.AddCurvature(wrenchForce[side], wrenchMoment[side], [f](int i) { return f + i; }, Hq);
       }
     int const contributor = options.firstStageContributor + p;
+    std::array<int, kMaxDofs> place;
+    if (int const shared = SharedPathColumns(pair, place); shared > 0) {
+      // two links of one mechanism: their paths' common joints summed
+      DofVector gu = DofVector::Zero(shared);
+      DofMatrix Hu = DofMatrix::Zero(shared, shared);
+      for (int i = 0; i < m; ++i) {
+        gu(place[i]) += gq(i);
+        for (int j = 0; j < m; ++j) Hu(place[i], place[j]) += Hq(i, j);
+      }
+      assembler.AddDynamicGradient(contributor, gu);
+      assembler.AddDynamicBlock(contributor, Hu);
+      continue;
+    }
     assembler.AddDynamicGradient(contributor, gq);
     assembler.AddDynamicBlock(contributor, Hq);
   }
   });
 }
 
-int ContactSystem::PairDofCount(Pair const& pair) const {
+int ContactSystem::SharedPathColumns(Pair const& pair, std::array<int, 2 * kMaxLinkPathDofs>& place) const {
+  Collider const& a = *colliders_[pair.body];
+  Collider const& b = *colliders_[pair.obstacle];
+  if (!a.articulated_ || a.articulated_ != b.articulated_) return 0;
+  // the union of two ascending lists, merged: each side's columns (side A's
+  // path DoFs, then side B's) to their place in it
+  DynamicArray<int> const& da = a.path_.dofs;
+  DynamicArray<int> const& db = b.path_.dofs;
+  int const na = static_cast<int>(da.size()), nb = static_cast<int>(db.size());
+  int i = 0, j = 0, count = 0;
+  while (i < na || j < nb) {
+    bool const takeA = j == nb || (i < na && da[i] <= db[j]);
+    bool const takeB = i == na || (j < nb && db[j] <= da[i]);
+    if (takeA) place[i++] = count;
+    if (takeB) place[na + j++] = count;
+    ++count;
+  }
+  return count;
+}
+
+int ContactSystem::PairColumnCount(Pair const& pair) const {
   int count = 0;
   for (int side = 0; side < 2; ++side) {
     Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];

@@ -82,6 +82,13 @@ class Collider {
   int GetLink() const { return path_.link; }
   std::uint32_t GetGroup() const { return group_; }
   std::uint32_t GetMask() const { return mask_; }
+  /// Whether this collider and `other` may touch (docs/contact.md,
+  /// "Filtering"): not two static obstacles; not two colliders of one actor,
+  /// except links of one articulated actor that are neither the same link
+  /// nor parent and child (a mechanism's self contact); a collider with
+  /// itself only as a Surface whose group is in its mask (self contact); and
+  /// each one's group in the other's mask.
+  bool MayTouch(Collider const& other) const;
 
   /// The shape as primitives, each thickened by GetThickness(): its
   /// vertices in the world at the carrying actor's current state (a rigid
@@ -384,8 +391,14 @@ class ContactSystem final : public StageTerm {
   static bool SharesVertex(std::array<int, 4> const& v, int count);
   /// The gap of a self-contact pair of a nodal collider in its rest shape.
   real RestGap(int colliderIndex, PairKind kind, std::array<int, 4> const& v) const;
-  /// The number of DoFs of the pair's contributor (PairDofs).
-  int PairDofCount(Pair const& pair) const;
+  /// The columns of the pair's derivatives: each side's DoFs, side A's then
+  /// side B's (PairDofs' list, but for two links of one mechanism).
+  int PairColumnCount(Pair const& pair) const;
+  /// For a pair of two links of one articulated actor, whose paths share
+  /// their common joints: the size of the union of the two paths' DoFs
+  /// (PairDofs' list, ascending) and, in `place`, each of the pair's columns'
+  /// index in it; 0 for any other pair.
+  int SharedPathColumns(Pair const& pair, std::array<int, 2 * kMaxLinkPathDofs>& place) const;
   /// The safe fraction of a linear move of the pair's vertices from x by
   /// scale · displacement_ (CCD; in [0, 1]).
   real LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x, real scale) const;

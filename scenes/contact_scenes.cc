@@ -76,8 +76,15 @@ ArticulatedActor* Builder::AddArticulated(ArticulatedActorParams const& params) 
   return Check(scene_->CreateArticulatedActor(params, error), error);
 }
 
-Constraint* Builder::AddArticulatedTarget(ArticulatedSingleDofTargetConstraintParams const& params) {
+Constraint* Builder::AddJointTarget(ArticulatedActor const& arm, int joint, real target, real stiffness,
+                                    real damping) {
   if (!ok_) return nullptr;
+  ArticulatedSingleDofTargetConstraintParams params;
+  params.actor = arm.GetHandle();
+  params.jointIndex = joint;
+  params.target = target;
+  params.stiffness = stiffness;
+  params.damping = damping;
   Error error;
   return Check(scene_->CreateArticulatedSingleDofTargetConstraint(params, error), error);
 }
@@ -403,16 +410,8 @@ ArmPush AddArmPush(Builder& b, real speed) {
   out.arm = b.AddArticulated(ArmParams(out.start));
   if (!out.arm) return out;
   for (int link = 1; link < 5; ++link) b.AddCollider(ArmCapsule(*out.arm, link));
-  for (int link = 0; link < 5; ++link) {
-    ArticulatedSingleDofTargetConstraintParams target;
-    target.actor = out.arm->GetHandle();
-    target.jointIndex = link;
-    target.target = link == 0 ? out.start : 0;
-    target.stiffness = link == 0 ? 1e4 : 100;
-    target.damping = link == 0 ? 100 : 1;
-    Constraint* c = b.AddArticulatedTarget(target);
-    if (link == 0) out.carriage = c;
-  }
+  out.carriage = b.AddJointTarget(*out.arm, 0, out.start, 1e4, 100);
+  for (int link = 1; link < 5; ++link) b.AddJointTarget(*out.arm, link, 0, 100, 1);
   return out;
 }
 
@@ -425,6 +424,63 @@ ContactScene ArmPushScene(SceneParams params, Error& error) {
     return push.carriage->SetTargetDof(push.start + push.speed * from, driveError);
   };
   return out;
+}
+
+FoldingArm AddFoldingArm(Builder& b) {
+  // link lengths 0.4, 0.1 m (link 2 reaches 0.35 m), each link's frame at its
+  // joint with its axis along local x
+  constexpr real kLengths[] = {0.4, 0.1, 0.36};
+  constexpr real kStart[] = {0, std::numbers::pi / 2, std::numbers::pi / 2};
+  ArticulatedActorParams p;
+  p.blockSolve = ArticulatedBlockSolve::Dense;
+  for (int i = 0; i < 3; ++i) {
+    ArticulatedLinkParams link;
+    link.parent = i - 1;
+    link.joint = JointType::Revolute;
+    link.axis = Real3::UnitZ();
+    link.parentToJointPosition = i == 0 ? Real3(0, 0.5, 0) : Real3(kLengths[i - 1], 0, 0);
+    link.mass = 0.2;
+    link.centerOfMass = Real3(kLengths[i] / 2, 0, 0);
+    real const across = link.mass * kLengths[i] * kLengths[i] / 12;
+    link.inertia = Real3(1e-5, across, across);
+    link.initialPosition = {kStart[i]};
+    p.links.push_back(link);
+  }
+  FoldingArm out;
+  out.arm = b.AddArticulated(p);
+  if (!out.arm) return out;
+  // capsules along each link's x, 20 mm (link 2: 50 mm) clear of its joints
+  constexpr real kFrom[] = {0.02, 0.02, 0.05}, kTo[] = {0.38, 0.08, 0.35};
+  for (int i = 0; i < 3; ++i) {
+    ColliderParams capsule;
+    capsule.actor = out.arm->GetHandle();
+    capsule.link = i;
+    capsule.shape = ShapeType::Capsule;
+    capsule.position = Real3(0.5 * (kFrom[i] + kTo[i]), 0, 0);
+    capsule.rotation = Quat(Eigen::AngleAxis<real>(std::numbers::pi / 2, Real3::UnitY()));  // local z along x
+    capsule.radius = kArmRadius;
+    capsule.halfLength = 0.5 * (kTo[i] - kFrom[i]);
+    capsule.friction = 0.3;
+    b.AddCollider(capsule);
+  }
+  b.AddJointTarget(*out.arm, 0, kStart[0], 100, 1);
+  b.AddJointTarget(*out.arm, 1, kStart[1], 100, 1);
+  out.fold = b.AddJointTarget(*out.arm, 2, kStart[2], 2, 0.05);
+  return out;
+}
+
+ContactScene FoldingArmScene(SceneParams params, Error& error) {
+  params.gravity = Real3::Zero();
+  Builder b(params);
+  FoldingArm const fold = AddFoldingArm(b);
+  ContactScene out = Finish(b, 1, error);
+  out.drive = [fold](real, real to, Error& driveError) { return DriveFoldingArm(fold, to, driveError); };
+  return out;
+}
+
+bool DriveFoldingArm(FoldingArm const& fold, real to, Error& error) {
+  real const turned = std::min(to / kFoldSeconds, real(1));
+  return fold.fold->SetTargetDof(std::numbers::pi / 2 + turned * (kFoldTarget - std::numbers::pi / 2), error);
 }
 
 namespace {

@@ -47,7 +47,9 @@ class Builder {
   DeformableActor* AddDeformable(DeformableActorParams const& params);
   RodActor* AddRod(RodActorParams const& params);
   ArticulatedActor* AddArticulated(ArticulatedActorParams const& params);
-  Constraint* AddArticulatedTarget(ArticulatedSingleDofTargetConstraintParams const& params);
+  /// A target holding joint `joint` of `arm` (a one-DoF joint) at `target`
+  /// with `stiffness` and `damping`.
+  Constraint* AddJointTarget(ArticulatedActor const& arm, int joint, real target, real stiffness, real damping);
   /// The Surface collider of a deformable or rod actor; without self contact
   /// its own group is left out of its mask.
   Collider* AddSurface(Actor const* actor, bool selfContact = true);
@@ -166,6 +168,32 @@ ColliderParams ArmCapsule(ArticulatedActor const& arm, int link);
 /// The ground, the box and the arm with its targets, added by `builder`.
 ArmPush AddArmPush(Builder& builder, real speed);
 ContactScene ArmPushScene(SceneParams params, Error& error);
+
+/// 8b. A mechanism's self contact: a 3-link planar arm (revolute joints
+/// about z, no gravity, capsules of r = 15 mm, μ = 0.3) whose last link is
+/// driven into its first. Link 0 (0.4 m) is held along +x, link 1 (0.1 m)
+/// at 90° to it; link 2 starts folded back over link 0, 0.1 m above it
+/// (joint 2 at 90°), and its target turns on to kFoldTarget over
+/// kFoldSeconds: past about 101.5° its capsule would pass through link 0's,
+/// so it comes to rest on it, joint 2 short of its target (links 0 and 2
+/// are not parent and child: they touch; links 1 and 2, and 0 and 1, do not).
+struct FoldingArm {
+  ArticulatedActor* arm = nullptr;
+  Constraint* fold = nullptr;  ///< joint 2's target
+};
+
+inline constexpr real kFoldTarget = 2.6;   ///< joint 2's final target [rad] (~149°)
+inline constexpr real kFoldSeconds = 0.5;  ///< the target's turn [s]
+/// Joint 2's angle where link 2's capsule first touches link 0's [rad]: its
+/// far end (0.35 m from the joint, 0.1 m above link 0's axis) at two radii
+/// from that axis, asin(0.07 / 0.35) past 90°.
+inline constexpr real kFoldTouch = 1.7721;
+
+/// The arm and its targets, added by `builder` (set the scene's gravity to zero).
+FoldingArm AddFoldingArm(Builder& builder);
+/// Turns joint 2's target to where it is at `to` (the step's end) [s].
+bool DriveFoldingArm(FoldingArm const& fold, real to, Error& error);
+ContactScene FoldingArmScene(SceneParams params, Error& error);
 
 /// 9. A kinematic gripper lifts a soft cube against gravity: a tet cube (0.1
 /// m, cells³ cells of 6 tets, stable Neo-Hookean, E = 1e5 Pa, 1000 kg/m³:

@@ -39,7 +39,7 @@ class InterpenetrationCheck {
     Rest(scene, now_, rest_);
     for (std::size_t a = 0; a < now_.size(); ++a)
       for (std::size_t b = a; b < now_.size(); ++b) {
-        if (!MayTouch(now_[a], now_[b], a == b)) continue;
+        if (!now_[a].collider->MayTouch(*now_[b].collider)) continue;  // the library's filter
         std::string found = CheckPair(now_[a], now_[b], a == b ? &rest_[a] : nullptr);
         if (!found.empty()) return found;
       }
@@ -116,14 +116,6 @@ class InterpenetrationCheck {
     }
   }
 
-  static bool MayTouch(Shape const& a, Shape const& b, bool self) {
-    Collider const& ca = *a.collider;
-    Collider const& cb = *b.collider;
-    if (self) return ca.GetShape() == ShapeType::Surface && (ca.GetGroup() & ca.GetMask()) != 0;
-    if (!ca.Moves() && !cb.Moves()) return false;
-    if (ca.Moves() && cb.Moves() && ca.GetActor() == cb.GetActor()) return false;
-    return (ca.GetGroup() & cb.GetMask()) && (cb.GetGroup() & ca.GetMask());
-  }
 
   static real Orient(Real3 const& a, Real3 const& b, Real3 const& c, Real3 const& d) {
     return (b - a).cross(c - a).dot(d - a);

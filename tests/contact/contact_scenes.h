@@ -120,6 +120,10 @@ inline ContactScene ArmPushScene(SceneParams params) {
   Error error;
   return Built(scenes::ArmPushScene(params, error), error);
 }
+inline ContactScene FoldingArmScene(SceneParams params) {
+  Error error;
+  return Built(scenes::FoldingArmScene(params, error), error);
+}
 
 using scenes::ArmCapsule;
 using scenes::ArmParams;

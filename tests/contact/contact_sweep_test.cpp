@@ -74,6 +74,10 @@ TEST_CASE("contact sweep: a 5-link arm pushes a box across the ground", "[contac
   Sweep("arm push", ArmPushScene);
 }
 
+TEST_CASE("contact sweep: a 3-link arm folding onto itself", "[contact][sweep][articulated]") {
+  Sweep("arm fold", FoldingArmScene);
+}
+
 TEST_CASE("contact sweep: a stack of 5 tet cubes", "[contact][sweep][long]") {
   Sweep("cube stack", [](SceneParams p) { return CubeStackScene(p); });
 }

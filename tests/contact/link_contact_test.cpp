@@ -70,7 +70,10 @@ struct LinkContact {
   internal::HessianAssembler assembler;
   int n = 0;
 
-  explicit LinkContact(real friction) {
+  /// With `againstLink`, the obstacle is a second capsule on link 6 of the
+  /// same tree (path 0, 1, 2, 5, 6: joints 0 and 1 shared with link 7's),
+  /// crossing the first 0.4 d̂ from it: a mechanism's self contact.
+  explicit LinkContact(real friction, bool againstLink = false) {
     SceneParams params;
     scene = MakeScene(params);
     tree = MakeArticulated(*scene, BranchedTree(true, ArticulatedBlockSolve::Dense));
@@ -80,6 +83,10 @@ struct LinkContact {
     capsule = contact->Add(LinkCapsule(*tree, kLink, friction), nullptr, nullptr, tree, error);
     INFO(error.ToString());
     REQUIRE(capsule);
+    if (againstLink) {
+      AddCrossingCapsule(friction, params.contact.activationDistance);
+      return;
+    }
     // the plane under both ends: normal across the capsule's axis, the
     // lower end 0.4 d̂ above it, the other within d̂
     DynamicArray<Real3> ends;
@@ -117,6 +124,48 @@ struct LinkContact {
     REQUIRE(assembler.SetDynamicContributors(pairs.Lists(), update, error));
   }
 
+  void AddCrossingCapsule(real friction, real dhat) {
+    DynamicArray<Real3> ends;
+    capsule->GetWorldVertices(ends);
+    Real3 const axis = (ends[1] - ends[0]).normalized();
+    Real3 const across = axis.cross(Real3(0.2, 0.1, 1)).normalized();
+    Real3 const normal = axis.cross(across);
+    // the second capsule's axis along `across`, its centre `normal` off the
+    // first's middle by both radii and 0.4 d̂; placed in link 6's frame
+    ColliderParams other = LinkCapsule(*tree, 6, friction);
+    Real3 const centre = 0.5 * (ends[0] + ends[1]) + (2 * other.radius + 0.4 * dhat) * normal;
+    Quat const world = Quat::FromTwoVectors(Real3::UnitZ(), across);
+    Quat const frame = tree->GetLinkRotation(6);
+    other.position = frame.conjugate() * (centre - tree->GetLinkPosition(6));
+    other.rotation = frame.conjugate() * world;
+    Error error;
+    Collider const* second = contact->Add(other, nullptr, nullptr, tree, error);
+    INFO(error.ToString());
+    REQUIRE(second);
+    ActorTestAccess::BeginStage(*tree, internal::MakeStage(IntegratorType::BackwardEuler, 0.01, false),
+                                Real3::Zero());
+    internal::StageContext stage;
+    stage.coefficients.duration = 0.01;
+    contact->BeginStage(stage);
+    REQUIRE(contact->GetNumCandidates() >= 1);
+    // each capsule's path, and their union for the pair's block: joints 0
+    // (free, 6), 1 (spherical, 3), 2, 5 (revolute), 6 (spherical), 4
+    // (revolute), 7 (spherical); link 3's joint is fixed
+    DynamicArray<DynamicArray<int>> reserved;
+    contact->AppendContributorDofs(reserved);
+    REQUIRE(reserved.size() == 3);
+    REQUIRE(reserved[2].size() == 18);
+    DynamicArray<int> blocks;
+    ActorTestAccess::AppendDofBlockSizes(*tree, blocks);
+    REQUIRE(assembler.Analyze(n, blocks, reserved, OrderingMethod::Natural, error));
+    internal::StageDofLists pairs;
+    contact->AppendStageContributorDofs(pairs);
+    for (std::size_t k = 0; k < pairs.size(); ++k) REQUIRE(pairs[k] == reserved[2]);
+    internal::HessianAssembler::DynamicUpdate update;
+    REQUIRE(assembler.SetDynamicContributors(pairs.Lists(), update, error));
+    REQUIRE(!update.grew);  // the union reserved at the pattern build
+  }
+
   real Energy() const { return ContactEnergy(*contact, assembler); }
   /// With `project`, the curvature of the rotated arms and of the link
   /// frame is left out (the PSD Hessian); without, the exact one.
@@ -131,9 +180,11 @@ struct LinkContact {
 
 TEST_CASE("a link collider's contact: gradient and Hessian over the joint DoFs match central differences",
           "[contact][articulated][derivatives]") {
-  for (real friction : {0.0, 0.5}) {
-    CAPTURE(friction);
-    LinkContact c(friction);
+  // against a plane, and against a capsule on another branch of the same
+  // tree (the two links' paths share two joints: their columns summed)
+  for (auto [friction, againstLink] : {std::pair{0.0, false}, {0.5, false}, {0.0, true}, {0.5, true}}) {
+    CAPTURE(friction, againstLink);
+    LinkContact c(friction, againstLink);
     REQUIRE(c.tree->GetDofOffset() == 0);
     // away from the stage start (a slip for friction to resist), still in
     // contact: a small joint move
@@ -283,6 +334,64 @@ TEST_CASE("link colliders are validated", "[contact][articulated][errors]") {
   capsule.link = 3;
   REQUIRE(scene->CreateCollider(capsule, error));
   REQUIRE(scene->GetNumColliders() == 2);
+}
+
+TEST_CASE("a mechanism's links touch each other: an arm folding onto itself stops on its own link",
+          "[contact][articulated][self]") {
+  // scenes::FoldingArmScene: link 2's target turns past where its capsule
+  // meets link 0's; the exact check (which tests links 0 and 2 against each
+  // other, not 0 and 1 or 1 and 2) at every step end
+  SceneParams params;
+  params.gravity = Real3::Zero();
+  scenes::Builder b(params);
+  scenes::FoldingArm const fold = scenes::AddFoldingArm(b);
+  std::unique_ptr<Scene> scene = b.TakeScene();
+  INFO(b.GetError().ToString());
+  REQUIRE(scene);
+  InterpenetrationCheck check(params.contact.activationDistance);
+  REQUIRE(check.Find(*scene).empty());
+  real const dt = 1.0 / 60;
+  int const steps = 60;
+  long newton = 0;
+  DynamicArray<ContactInfo> contacts;
+  for (int s = 0; s < steps; ++s) {
+    Error error;
+    REQUIRE(scenes::DriveFoldingArm(fold, (s + 1) * dt, error));
+    StepChecked(*scene, dt, s, check, newton);
+  }
+  real const angle = fold.arm->GetJointCoordinate(2, 0);
+  INFO("joint 2 at " << angle << " rad (first touch " << scenes::kFoldTouch << ", target " << scenes::kFoldTarget
+                     << "), " << static_cast<real>(newton) / steps << " Newton/step");
+  // it stopped on link 0, far short of its target: near the first touch
+  // with the arm straight (the held joints 0 and 1 give a little under the
+  // contact's moment, 100 N·m/rad each, so joint 2 turns a little further)
+  CHECK(angle > scenes::kFoldTouch - 0.01);
+  CHECK(angle < scenes::kFoldTouch + 0.05);
+  // at rest, link 2's contacts balance its drive: their moment about joint 2
+  // against the target's k (target − angle)
+  scene->GetContacts(contacts);
+  REQUIRE(!contacts.empty());
+  Real3 const joint2 = fold.arm->GetLinkPosition(2);
+  real moment = 0;
+  for (ContactInfo const& c : contacts) {
+    Collider const* a = scene->GetCollider(c.colliderA);
+    Collider const* b = scene->GetCollider(c.colliderB);
+    REQUIRE((a && b));
+    CHECK(a->GetLink() == 0);  // only links 0 and 2 touch
+    CHECK(b->GetLink() == 2);
+    CHECK(c.normalForce > 0);
+    // the force on link 2 (side B): the opposite of A's
+    Real3 const onLink2 = -(c.normalForce * c.normal + c.frictionForce);
+    moment += (c.point - joint2).cross(onLink2).z();
+  }
+  real const drive = 2 * (scenes::kFoldTarget - angle);
+  INFO("contact moment " << moment << " N·m against the drive's " << drive);
+  CHECK(std::abs(moment + drive) <= 0.02 * drive);
+  // the pairs' union block was reserved at the pattern build: no growth
+  SceneStats const& stats = scene->GetStats();
+  CHECK(stats.patternBuilds == 1);
+  CHECK(stats.contactPatternBuilds == 0);
+  CHECK(static_cast<real>(newton) / steps <= 8);
 }
 
 TEST_CASE("a 5-link arm driven by targets pushes a box across the ground", "[contact][articulated]") {

@@ -141,3 +141,40 @@ def test_a_link_collider_stops_a_swinging_pendulum_on_the_ground():
     assert abs(arm.get_joint_velocities()[0]) < 1e-3
     with raises(mochi.ErrorCode.InvalidArgument, "link must name a link"):
         scene.create_collider(actor=arm, link=1, shape=mochi.ShapeType.Sphere, radius=0.05)
+
+
+def test_the_links_of_a_mechanism_touch_each_other_but_not_their_parent_or_child():
+    # a 3-link chain along +x, capsules on each link: links 0 and 2 may
+    # touch, links 0 and 1 (parent and child) and 1 and 2 may not; then the
+    # last link is driven round into the first and comes to rest on it
+    params = mochi.SceneParams()
+    params.gravity = [0, 0, 0]
+    scene = mochi.Scene.create(params)
+    lengths, start = [0.4, 0.1, 0.36], [0.0, math.pi / 2, math.pi / 2]
+    arm = scene.create_articulated_actor(links=[
+        mochi.ArticulatedLinkParams(parent=i - 1, joint=mochi.JointType.Revolute, axis=[0, 0, 1],
+                                    parent_to_joint_position=[0, 0.5, 0] if i == 0 else [lengths[i - 1], 0, 0],
+                                    center_of_mass=[lengths[i] / 2, 0, 0], mass=0.2,
+                                    inertia=[1e-5, 0.2 * lengths[i] ** 2 / 12, 0.2 * lengths[i] ** 2 / 12],
+                                    initial_position=[start[i]])
+        for i in range(3)])
+    along_x = [math.cos(math.pi / 4), 0, math.sin(math.pi / 4), 0]  # local z along x
+    ends = [(0.02, 0.38), (0.02, 0.08), (0.05, 0.35)]
+    capsules = [scene.create_collider(actor=arm, link=i, shape=mochi.ShapeType.Capsule, radius=0.015,
+                                      half_length=(b - a) / 2, position=[(a + b) / 2, 0, 0], rotation=along_x)
+                for i, (a, b) in enumerate(ends)]
+    assert capsules[0].may_touch(capsules[2]) and capsules[2].may_touch(capsules[0])
+    assert not capsules[0].may_touch(capsules[1]) and not capsules[1].may_touch(capsules[2])
+    held = [scene.create_articulated_single_dof_target_constraint(
+        actor=arm, joint_index=i, target=start[i], stiffness=2.0 if i == 2 else 100.0,
+        damping=0.05 if i == 2 else 1.0) for i in range(3)]
+    for s in range(60):
+        held[2].set_target_dof(math.pi / 2 + min((s + 1) / 30, 1) * (2.6 - math.pi / 2))
+        scene.step(1.0 / 60)
+    # joint 2 stopped where link 2's capsule meets link 0's (~1.772 rad with
+    # the arm straight), far short of its target 2.6
+    angle = arm.get_joint_positions()[2]
+    assert 1.76 < angle < 1.82
+    contacts = scene.get_contacts()
+    assert contacts and all({c.collider_a, c.collider_b} == {capsules[0].get_id(), capsules[2].get_id()}
+                            for c in contacts)

@@ -59,6 +59,10 @@ void DefineContact(py::module_& m) {
       .def("get_link", [](ColliderRef const& c) { return c.Get().GetLink(); },
            "the articulated actor's link carrying it (-1: none)")
       .def("get_friction", [](ColliderRef const& c) { return c.Get().GetFriction(); })
+      .def("may_touch", [](ColliderRef const& c, ColliderRef const& other) { return c.Get().MayTouch(other.Get()); },
+           py::arg("other"),
+           "whether the two may touch: their groups and masks; not two colliders of one actor, except links of "
+           "one articulated actor that are neither one link nor parent and child")
       .def("get_thickness", [](ColliderRef const& c) { return c.Get().GetThickness(); },
            "the thickness around every primitive [m] (a Sphere's, Capsule's or rod's radius)")
       .def("get_position", [](ColliderRef const& c) { return c.Get().GetPosition(); },
