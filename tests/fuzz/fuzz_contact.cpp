@@ -240,7 +240,17 @@ class Driver {
     shape.position = Real3(0, -0.05, 0);
     if (trace_)
       std::fprintf(stderr, "  arm of %d links, shape %d on link %d\n", links, static_cast<int>(shape.shape), shape.link);
-    return scene_->CreateCollider(shape, error) != nullptr;
+    if (!scene_->CreateCollider(shape, error)) return false;
+    // now and then a second shape two links away: the mechanism's links
+    // touch each other (not a parent and its child)
+    if (links < 3 || in_.Int(2)) return true;
+    before_ = Digest(*scene_);  // the second collider is the next call
+    ColliderParams other = Shape(false);
+    other.actor = actor->GetHandle();
+    other.link = (shape.link + 2) % links;
+    other.position = Real3(0, -0.05, 0);
+    if (trace_) std::fprintf(stderr, "  and shape %d on link %d\n", static_cast<int>(other.shape), other.link);
+    return scene_->CreateCollider(other, error) != nullptr;
   }
 
   Collider* PickCollider() {

@@ -4,7 +4,8 @@ that fuzz_contact.cpp reads (each value one byte, read in the order written
 here; Input::Int(n) is byte % n; Input::Real() a table value for a byte
 below 240: 0 is 0, 1 is 1). The scenes: a box dropped on the ground and
 left to rest, a kinematic paddle pushing a box, a rod and a tet cube dropped
-on the ground, an arm's capsule landing on the ground. Run it after changing what fuzz_contact.cpp reads:
+on the ground, an arm's capsule landing on the ground, a chain with
+capsules on two links that may touch each other. Run it after changing what fuzz_contact.cpp reads:
 
     /usr/bin/python3 tests/fuzz/make_contact_seeds.py
 """
@@ -14,7 +15,7 @@ CORPUS = Path(__file__).resolve().parent / "corpus" / "contact"
 
 # Driver::Call's choice (in_.Int(9))
 CREATE_RIGID, CREATE_OBSTACLE, CREATE_NODAL, MOVE_OBSTACLE, KICK, STEP, CREATE_ARM = 0, 1, 3, 4, 6, 7, 8
-REVOLUTE, PRISMATIC = 0, 1
+REVOLUTE, PRISMATIC, FIXED = 0, 1, 4
 PLANE, SPHERE, BOX, CAPSULE = 0, 1, 2, 3
 
 
@@ -71,6 +72,14 @@ def seeds():
     hanging = [REVOLUTE, 1] + size(4) + [1]           # axis z, 0.1 m below
     capsule = shape(CAPSULE, False, half=1, radius=0) + [1, 1]  # on link 1
     yield "arm_capsule", params + ground() + [CREATE_ARM, 1] + carriage + hanging + capsule + step() * 20
+    # a three-link chain hanging from a fixed root 0.6 m up, a capsule on
+    # link 0 and (the byte after it 0: a second shape) one on link 2, two
+    # links away: a mechanism's links that may touch each other
+    root = [FIXED, 1] + place(5, 6, 5) + [1]
+    chain = root + hanging * 2
+    on_link0 = shape(CAPSULE, False, half=1, radius=0) + [1, 0]
+    yield "arm_self_pair", params + ground() + [CREATE_ARM, 2] + chain + on_link0 + [0] + \
+        shape(CAPSULE, False, half=1, radius=0) + step() * 20
 
 
 def main():
