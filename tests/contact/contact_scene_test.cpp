@@ -444,13 +444,15 @@ TEST_CASE("contact scenes step bit-identically on 1 and 4 threads", "[contact][p
   // "Threads"); every kind of body: a soft ball landing (a solid's surface
   // and its self contact against a plane), a 5-box stack (rigid body-body
   // pairs, the rigid CCD), a rod coiling on the ground (segments and their
-  // self contact), the 5-link arm pushing a box (link capsules) and the
+  // self contact), the 5-link arm pushing a box (link capsules), an arm
+  // folding onto itself (two links' pair over their shared joints) and the
   // gripper (kinematic obstacles dragging a soft cube); the cloth below
   RequireSameOnThreads({
       {"ball", BuiltBy([](SceneParams p, Error& e) { return scenes::BallDropScene(p, 0.05, 4, e); }), 1.0 / 120, 40},
       {"box stack", BuiltBy([](SceneParams p, Error& e) { return scenes::BoxStackScene(p, 5, e); }), 1.0 / 60, 30},
       {"rod coil", BuiltBy([](SceneParams p, Error& e) { return scenes::RodCoilScene(p, 100, e); }), 1.0 / 60, 40},
       {"arm push", BuiltBy([](SceneParams p, Error& e) { return scenes::ArmPushScene(p, e); }), 1.0 / 60, 40},
+      {"arm fold", BuiltBy([](SceneParams p, Error& e) { return scenes::FoldingArmScene(p, e); }), 1.0 / 60, 40},
       {"gripper",
        [](SceneParams params) {
          params.newton.maxIterations = 100;
