@@ -48,7 +48,8 @@ class InterpenetrationCheck {
 
   /// The smallest gap (distance less thicknesses; to a plane, signed) over
   /// the pairs the last Find tested where thicknesses or a plane are
-  /// involved [m]; +inf when there were none.
+  /// involved, of those within the activation distance [m]; +inf when there
+  /// were none.
   real GetMinGap() const { return minGap_; }
 
   /// The distance from p to segment ab (a point where a = b).
@@ -285,9 +286,9 @@ class InterpenetrationCheck {
         for (std::size_t f = 0; f < o.collider->GetTriangles().size(); ++f) {
           auto const tri = o.collider->GetTriangles()[f];
           if (rest && Shares<3>(tri, &vi, 1)) continue;
-          if (!vb.Near(BoxOf(o.x, tri), t)) continue;
+          if (!vb.Near(BoxOf(o.x, tri), t + activationDistance_)) continue;
           real const d = PointTriangleDistance(s.x[i], o.x[tri[0]], o.x[tri[1]], o.x[tri[2]]);
-          if (d > t) continue;
+          if (d > t + activationDistance_) continue;  // (farther: no gap to record)
           if (rest && restClose(PointTriangleDistance(rest->x[i], rest->x[tri[0]], rest->x[tri[1]], rest->x[tri[2]])))
             continue;
           if (std::string found = tooClose(d, "vertex " + std::to_string(i) + " and triangle " + std::to_string(f));
@@ -306,9 +307,9 @@ class InterpenetrationCheck {
       for (std::size_t g = rest ? e + 1 : 0; g < cb.GetEdges().size(); ++g) {
         auto const eb = cb.GetEdges()[g];
         if (rest && Shares<2>(ea, eb.data(), 2)) continue;
-        if (!box.Near(BoxOf(b.x, eb), t)) continue;
+        if (!box.Near(BoxOf(b.x, eb), t + activationDistance_)) continue;
         real const d = SegmentDistance(a.x[ea[0]], a.x[ea[1]], b.x[eb[0]], b.x[eb[1]]);
-        if (d > t) continue;
+        if (d > t + activationDistance_) continue;  // (farther: no gap to record)
         if (rest && restClose(SegmentDistance(rest->x[ea[0]], rest->x[ea[1]], rest->x[eb[0]], rest->x[eb[1]])))
           continue;
         if (std::string found = tooClose(d, "edges " + std::to_string(e) + " and " + std::to_string(g));
