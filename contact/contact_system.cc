@@ -1222,14 +1222,8 @@ contact::TangentialFriction ContactSystem::PairFriction(Pair const& pair, Dynami
 
 void ContactSystem::PairDofs(Pair const& pair, DynamicArray<int>& dofs) const {
   // two links of one mechanism: the union of their paths' DoFs, ascending
-  if (std::array<int, 2 * kMaxLinkPathDofs> place; int const shared = SharedPathColumns(pair, place)) {
-    int const begin = static_cast<int>(dofs.size());
-    dofs.resize(begin + shared);
-    int column = 0;
-    for (int side = 0; side < 2; ++side) {
-      Collider const& c = *colliders_[side == 0 ? pair.body : pair.obstacle];
-      for (int k = 0; k < c.NumFrameDofs(); ++k) dofs[begin + place[column++]] = c.FrameDof(k);
-    }
+  if (LinksOfOneActor(*colliders_[pair.body], *colliders_[pair.obstacle])) {
+    AppendPathUnion(*colliders_[pair.body], *colliders_[pair.obstacle], dofs);
     return;
   }
   // side A's DoFs, then side B's (none for a static obstacle): a rigid side's
@@ -1265,11 +1259,7 @@ void ContactSystem::AppendContributorDofs(DynamicArray<DynamicArray<int>>& dofLi
     for (int b = a + 1; b < count; ++b) {
       Collider const& ca = *colliders_[a];
       Collider const& cb = *colliders_[b];
-      if (!ca.articulated_ || ca.articulated_ != cb.articulated_ || !MayTouch(a, b)) continue;
-      DynamicArray<int>& dofs = dofLists.emplace_back();
-      std::set_union(ca.path_.dofs.begin(), ca.path_.dofs.end(), cb.path_.dofs.begin(), cb.path_.dofs.end(),
-                     std::back_inserter(dofs));
-      for (int& dof : dofs) dof += ca.articulated_->GetDofOffset();
+      if (LinksOfOneActor(ca, cb) && MayTouch(a, b)) AppendPathUnion(ca, cb, dofLists.emplace_back());
     }
 }
 
@@ -1406,7 +1396,8 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
       }
     int const contributor = options.firstStageContributor + p;
     std::array<int, kMaxDofs> place;
-    if (int const shared = SharedPathColumns(pair, place); shared > 0) {
+    if (Collider const& a = *colliders_[pair.body], &b = *colliders_[pair.obstacle]; LinksOfOneActor(a, b)) {
+      int const shared = MergePaths(a, b, place);
       // two links of one mechanism: their paths' common joints summed
       DofVector gu = DofVector::Zero(shared);
       DofMatrix Hu = DofMatrix::Zero(shared, shared);
@@ -1424,12 +1415,9 @@ void ContactSystem::AddGradientAndHessian(HessianAssembler& assembler, int, Asse
   });
 }
 
-int ContactSystem::SharedPathColumns(Pair const& pair, std::array<int, 2 * kMaxLinkPathDofs>& place) const {
-  Collider const& a = *colliders_[pair.body];
-  Collider const& b = *colliders_[pair.obstacle];
-  if (!a.articulated_ || a.articulated_ != b.articulated_) return 0;
-  // the union of two ascending lists, merged: each side's columns (side A's
-  // path DoFs, then side B's) to their place in it
+int ContactSystem::MergePaths(Collider const& a, Collider const& b, std::array<int, 2 * kMaxLinkPathDofs>& place) {
+  // the union of two ascending lists, merged: each side's columns (a's path
+  // DoFs, then b's) to their place in it
   DynamicArray<int> const& da = a.path_.dofs;
   DynamicArray<int> const& db = b.path_.dofs;
   int const na = static_cast<int>(da.size()), nb = static_cast<int>(db.size());
@@ -1442,6 +1430,15 @@ int ContactSystem::SharedPathColumns(Pair const& pair, std::array<int, 2 * kMaxL
     ++count;
   }
   return count;
+}
+
+void ContactSystem::AppendPathUnion(Collider const& a, Collider const& b, DynamicArray<int>& dofs) {
+  std::array<int, 2 * kMaxLinkPathDofs> place;
+  int const begin = static_cast<int>(dofs.size());
+  dofs.resize(begin + MergePaths(a, b, place));
+  int column = 0;
+  for (Collider const* c : {&a, &b})
+    for (int k = 0; k < c->NumFrameDofs(); ++k) dofs[begin + place[column++]] = c->FrameDof(k);
 }
 
 int ContactSystem::PairColumnCount(Pair const& pair) const {

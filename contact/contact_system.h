@@ -394,11 +394,17 @@ class ContactSystem final : public StageTerm {
   /// The columns of the pair's derivatives: each side's DoFs, side A's then
   /// side B's (PairDofs' list, but for two links of one mechanism).
   int PairColumnCount(Pair const& pair) const;
-  /// For a pair of two links of one articulated actor, whose paths share
-  /// their common joints: the size of the union of the two paths' DoFs
-  /// (PairDofs' list, ascending) and, in `place`, each of the pair's columns'
-  /// index in it; 0 for any other pair.
-  int SharedPathColumns(Pair const& pair, std::array<int, 2 * kMaxLinkPathDofs>& place) const;
+  /// Whether a and b are two links of one articulated actor, whose paths
+  /// share their common joints: a pair of them moves with the union of the
+  /// two paths' DoFs (PairDofs' list, ascending).
+  static bool LinksOfOneActor(Collider const& a, Collider const& b) {
+    return a.articulated_ && a.articulated_ == b.articulated_;
+  }
+  /// That union's size and, in `place`, the index in it of each of a's then
+  /// b's path DoFs.
+  static int MergePaths(Collider const& a, Collider const& b, std::array<int, 2 * kMaxLinkPathDofs>& place);
+  /// Appends that union's DoFs (the scene's indices) to `dofs`.
+  static void AppendPathUnion(Collider const& a, Collider const& b, DynamicArray<int>& dofs);
   /// The safe fraction of a linear move of the pair's vertices from x by
   /// scale · displacement_ (CCD; in [0, 1]).
   real LinearPairCcd(Pair const& pair, DynamicArray<Real3> const& x, real scale) const;
