@@ -60,7 +60,7 @@ class DeformableActor final : public NodalActor {
   DynamicArray<std::array<int, 3>> const& GetTriangles() const { return triangles_; }
 
   /// X of node i (actor frame). Preconditions for every node accessor: 0 <= i < GetNumNodes().
-  Real3 const& GetNodeReferencePosition(int i) const { return reference_[i]; }
+  Real3 const& GetNodeReferencePosition(int i) const override { return reference_[i]; }
   /// u of node i (actor frame).
   Real3 const& GetNodeDisplacement(int i) const { return state_.displacement[i]; }
   /// T(X + u), world frame.

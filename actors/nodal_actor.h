@@ -18,6 +18,8 @@ class NodalActor : public Actor {
   virtual Real3 GetNodePosition(int i) const = 0;
   /// World-frame velocity of node i.
   virtual Real3 GetNodeVelocity(int i) const = 0;
+  /// Reference position X of node i (actor frame): the rest shape.
+  virtual Real3 const& GetNodeReferencePosition(int i) const = 0;
   /// Lumped mass of node i [kg].
   virtual real GetNodeMass(int i) const = 0;
   /// Rotation of the actor transform T (u is in the actor frame; identity for rods).

@@ -70,7 +70,7 @@ class RodActor final : public NodalActor {
   Real3 GetNodeVelocity(int i) const override { return state_.velocity[i]; }
   real GetNodeMass(int i) const override { return mass_[i]; }
   Quat const& GetTransformRotation() const override { return identity_; }
-  Real3 const& GetNodeReferencePosition(int i) const { return reference_[i]; }
+  Real3 const& GetNodeReferencePosition(int i) const override { return reference_[i]; }
   DynamicArray<Real3> GetNodePositions() const;
   /// θ of element e (node e's 4th DoF) [rad], relative to its reference frame.
   real GetTwist(int i) const { return state_.twist[i]; }

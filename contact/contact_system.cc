@@ -304,7 +304,12 @@ bool ContactSystem::MakeShape(ColliderParams const& p, Collider& c, DynamicArray
 
 bool ContactSystem::SetPrimitives(Collider& c, DynamicArray<std::array<int, 3>> triangles, Error& error) const {
   int const n = static_cast<int>(c.local_.size());
-  auto at = [&](int i) { return c.local_[i].node >= 0 ? c.nodal_->GetNodePosition(c.local_[i].node) : c.local_[i].local; };
+  // a body's primitives are weighed (and checked) in its rest shape, so that
+  // a collider made on a deformed body, or a scene restarted from a deformed
+  // state, has the same incremental potential as one made at rest
+  auto at = [&](int i) {
+    return c.local_[i].node >= 0 ? c.nodal_->GetNodeReferencePosition(c.local_[i].node) : c.local_[i].local;
+  };
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     auto const& tri = triangles[t];
     for (int i : tri)
