@@ -137,20 +137,15 @@ bool TetBall(Real3 const& center, real radius, int cells, DeformableActorParams&
   if (!MakeTetBox(center - Real3::Constant(radius), Real3::Constant(2 * radius), {cells, cells, cells}, mesh,
                   error))
     return false;
+  // each node moved along its ray from the centre by |d|∞ / |d|₂: the box's
+  // nested cube shells become spheres, its faces the ball's surface
   ball.nodes.clear();
-  ball.tetrahedra.clear();
-  std::map<int, int> renumber;
-  for (auto const& t : mesh.tetrahedra) {
-    Real3 const centroid = 0.25 * (mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]] + mesh.nodes[t[3]]);
-    if ((centroid - center).norm() > radius) continue;
-    std::array<int, 4> tet{};
-    for (int k = 0; k < 4; ++k) {
-      auto [it, inserted] = renumber.try_emplace(t[k], static_cast<int>(ball.nodes.size()));
-      if (inserted) ball.nodes.push_back(mesh.nodes[t[k]]);
-      tet[k] = it->second;
-    }
-    ball.tetrahedra.push_back(tet);
+  for (Real3 const& p : mesh.nodes) {
+    Real3 const d = p - center;
+    real const length = d.norm();
+    ball.nodes.push_back(length > 0 ? center + d * (d.cwiseAbs().maxCoeff() / length) : p);
   }
+  ball.tetrahedra = mesh.tetrahedra;
   return true;
 }
 
@@ -206,14 +201,20 @@ ContactScene RollingScene(SceneParams params, Error& error) {
   return Finish(b, 1, error);
 }
 
+bool BallParams(real drop, int cells, DeformableActorParams& ball, Error& error) {
+  if (!TetBall(Real3(0, drop + kBallRadius, 0), kBallRadius, cells, ball, error)) return false;
+  ball.material = TetMaterialModel::StableNeoHookean;
+  ball.youngModulus = kBallYoungModulus;
+  ball.poissonRatio = 0.3;
+  ball.density = 1000;
+  return true;
+}
+
 ContactScene BallDropScene(SceneParams params, real drop, int cells, Error& error) {
   Builder b(params);
   b.AddGround();
   DeformableActorParams ball;
-  if (!TetBall(Real3(0, drop + 0.1, 0), 0.1, cells, ball, error)) return {};
-  ball.material = TetMaterialModel::StableNeoHookean;
-  ball.youngModulus = 1e5;
-  ball.density = 1000;
+  if (!BallParams(drop, cells, ball, error)) return {};
   b.AddSurface(b.AddDeformable(ball), false);
   return Finish(b, 1, error);
 }

@@ -79,8 +79,10 @@ class Builder {
   Error error_;
 };
 
-/// A tetrahedral ball: the tets of a cells³ grid box whose centroids are
-/// within `radius` of the centre, nodes renumbered; false and `error` for a
+/// A tetrahedral ball: a cells³ grid box of 6 tets per cell (MakeTetBox)
+/// around `center`, 2·radius wide, each node moved along its ray from the
+/// centre onto the sphere its cube shell maps to (d ↦ d |d|∞ / |d|₂), so the
+/// surface is round rather than a voxel staircase; false and `error` for a
 /// bad size.
 bool TetBall(Real3 const& center, real radius, int cells, DeformableActorParams& ball, Error& error);
 
@@ -102,10 +104,18 @@ ContactScene Finish(Builder& builder, real seconds, Error& error);
 ContactScene InclineScene(SceneParams params, real tanTheta, Error& error);
 /// 2. A solid sphere (r = 0.1 m) rolling from rest down a 15° incline.
 ContactScene RollingScene(SceneParams params, Error& error);
-/// 3. An undamped Neo-Hookean tet ball (r = 0.1 m, E = 1e5 Pa, 1000 kg/m³,
-/// `cells` across) dropped from `drop` m onto the ground; without self
+/// The ball of scene 3: a rubber ball 1 m across (docs/contact.md, "Scene 3:
+/// which ball bounces"). Its impact at 4.4 m/s is slow against its wave speed
+/// √(E/ρ) = 32 m/s and lasts about 28 steps of 1/240 s.
+inline constexpr real kBallRadius = 0.5;       // [m]
+inline constexpr real kBallYoungModulus = 1e6;  // [Pa]
+/// 3. An undamped stable Neo-Hookean tet ball (TetBall, r = kBallRadius,
+/// E = kBallYoungModulus, ν = 0.3, 1000 kg/m³, `cells` across) whose lowest
+/// point starts `drop` m above the ground, which has μ = 0.5; without self
 /// contact (a solid ball does not fold onto itself).
 ContactScene BallDropScene(SceneParams params, real drop, int cells, Error& error);
+/// The ball of scene 3 alone: its nodes, tets and material.
+bool BallParams(real drop, int cells, DeformableActorParams& ball, Error& error);
 // Each scene: XScene builds it in a scene of its own; AddX adds it to a
 // builder's scene (the harness's, whose parameters it sets) and returns its
 // bodies.

@@ -57,10 +57,10 @@ def paddle_pushes_box():
 def ball_bounces():
     scene = mochi.Scene.create(integrator=mochi.IntegratorType.Bdf2)
     scene.create_collider(shape=mochi.ShapeType.Plane)
-    radius, drop, cells = 0.1, 1.0, 4
+    radius, drop, cells = 0.5, 1.0, 6  # scene 3's ball: 1 m of rubber
     nodes, tets = tet_ball([0, drop + radius, 0], radius, cells)
     ball = scene.create_deformable_actor(nodes=nodes, tetrahedra=tets, material=mochi.TetMaterialModel.StableNeoHookean,
-                                         young_modulus=1e5, density=1000)
+                                         young_modulus=1e6, density=1000)
     scene.create_collider(actor=ball, group=2, mask=~2 & 0xFFFFFFFF)  # no self contact: a solid ball
     dt = 1 / 240
     times, lowest = [], []
@@ -72,35 +72,33 @@ def ball_bounces():
 
 
 def tet_ball(center, radius, cells):
-    """The tets of a grid box (6 per cell) whose centroids lie within the sphere."""
+    """A grid box of cells³ cubes, 6 tets each, its nodes moved along their rays from
+    the centre onto spheres (d -> d |d|_inf / |d|_2): a round ball, as scenes::TetBall."""
     grid = np.linspace(-radius, radius, cells + 1)
-    index = {}
-    nodes, tets = [], []
-
-    def node(i, j, k):
-        key = (i, j, k)
-        if key not in index:
-            index[key] = len(nodes)
-            nodes.append([center[0] + grid[i], center[1] + grid[j], center[2] + grid[k]])
-        return index[key]
-
+    n = cells + 1
+    nodes = []
+    for i in range(n):
+        for j in range(n):
+            for k in range(n):
+                d = np.array([grid[i], grid[j], grid[k]])
+                length = np.linalg.norm(d)
+                if length > 0:
+                    d = d * (np.abs(d).max() / length)
+                nodes.append(list(np.asarray(center) + d))
     # the 6 tetrahedra of a cube around its main diagonal (corner 0 to 6)
     split = [(0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6), (0, 7, 4, 6), (0, 4, 5, 6), (0, 5, 1, 6)]
     offsets = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    tets = []
     for i in range(cells):
         for j in range(cells):
             for k in range(cells):
-                corner = [(i + a, j + b, k + c) for a, b, c in offsets]
+                ids = [(i + a) * n * n + (j + b) * n + (k + c) for a, b, c in offsets]
                 for tet in split:
-                    points = np.array([[grid[corner[t][0]], grid[corner[t][1]], grid[corner[t][2]]] for t in tet])
-                    if np.linalg.norm(points.mean(axis=0)) > radius:
-                        continue
-                    ids = [node(*corner[t]) for t in tet]
-                    # positive volume
-                    p = np.asarray([nodes[n] for n in ids])
+                    t = [ids[c] for c in tet]
+                    p = np.asarray([nodes[m] for m in t])
                     if np.linalg.det(np.array([p[1] - p[0], p[2] - p[0], p[3] - p[0]])) < 0:
-                        ids[1], ids[2] = ids[2], ids[1]
-                    tets.append(ids)
+                        t[1], t[2] = t[2], t[1]  # positive volume
+                    tets.append(t)
     return nodes, tets
 
 

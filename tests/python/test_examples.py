@@ -85,7 +85,7 @@ def test_contact_scenes_draw_their_output(tmp_path):
     # the ball never reaches the ground, and bounces back up
     ball = lines[1]
     assert float(ball.split("lowest node ")[1].split(" m")[0]) > 0
-    assert float(ball.split("bounce peak ")[1].split(" m")[0]) > 0.3
+    assert float(ball.split("bounce peak ")[1].split(" m")[0]) > 0.9  # scene 3: 0.93 (docs/contact.md)
     # the stack rests: below the 1e-4 m of docs/contact.md's bar
     assert float(lines[2].split("drift ")[1].split(" m")[0]) < 1e-4
     # the cloth lies on the sphere: never through it nor the ground, and its
