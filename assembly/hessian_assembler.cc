@@ -285,13 +285,20 @@ std::uint64_t BlockPair(int a, int b) {
 bool HessianAssembler::SetDynamicContributors(Span<DynamicArray<int> const> dofLists,
                                               DynamicUpdate& update, Error& error, bool rebuildWhenChanged) {
   update = DynamicUpdate{};
-  if (!analyzed_ || GetNumParts() != 1) {
-    error.Set(ErrorCode::InvalidState,
-              "contributors whose DoF lists change between stages need an analysed pattern in one process");
+  if (!analyzed_) {
+    error.Set(ErrorCode::InvalidState, "contributors whose DoF lists change between stages need an analysed pattern");
     return false;
   }
   for (auto const& dofs : dofLists)
     if (!CheckDofList(dofs, matrix_.size, error)) return false;
+  if (GetNumParts() != 1) {
+    if (rebuildWhenChanged) {
+      error.Set(ErrorCode::InvalidState, "re-analysing the pattern whenever the changing contributors change is not "
+                                         "supported on several parts");
+      return false;
+    }
+    return SetDividedDynamicContributors(dofLists, error);
+  }
   bool changed = false;
   if (rebuildWhenChanged) {
     // the same lists as the last stage's: nothing to do but zero stages
@@ -324,19 +331,10 @@ bool HessianAssembler::SetDynamicContributors(Span<DynamicArray<int> const> dofL
       for (std::size_t i = 0; i < dofs.size(); ++i)
         for (std::size_t j = i; j < dofs.size(); ++j) reserve(dofToBlock_[dofs[i]], dofToBlock_[dofs[j]]);
   }
-  dynamicDofStart_.assign(1, 0);
-  dynamicDofs_.clear();
-  dynamicSlotStart_.assign(1, 0);
-  for (auto const& dofs : dofLists) {
-    dynamicDofs_.insert(dynamicDofs_.end(), dofs.begin(), dofs.end());
-    dynamicDofStart_.push_back(static_cast<int>(dynamicDofs_.size()));
-    int const n = static_cast<int>(dofs.size());
-    dynamicSlotStart_.push_back(dynamicSlotStart_.back() + n * (n + 1) / 2);
-  }
   // their slots, each list's into its own range on the assembler's threads
   // (storage kept: no allocation once grown); a missing entry makes the
   // pattern grow
-  dynamicSlots_.resize(static_cast<std::size_t>(dynamicSlotStart_.back()));
+  SetDynamicLists(dofLists);
   auto const fillSlots = [&] {
     ParallelFor(static_cast<int>(dofLists.size()), kDynamicSlotGrain, [&](int begin, int end, int) {
       for (int k = begin; k < end; ++k) {
@@ -357,12 +355,73 @@ bool HessianAssembler::SetDynamicContributors(Span<DynamicArray<int> const> dofL
     if (!GrowPattern(update, changed, error)) return false;
     fillSlots();
   }
+  ClearDynamicStamps(dofLists.size());
+  return true;
+}
+
+void HessianAssembler::SetDynamicLists(Span<DynamicArray<int> const> dofLists) {
+  dynamicDofStart_.assign(1, 0);
+  dynamicDofs_.clear();
+  dynamicSlotStart_.assign(1, 0);
+  for (auto const& dofs : dofLists) {
+    dynamicDofs_.insert(dynamicDofs_.end(), dofs.begin(), dofs.end());
+    dynamicDofStart_.push_back(static_cast<int>(dynamicDofs_.size()));
+    int const n = static_cast<int>(dofs.size());
+    dynamicSlotStart_.push_back(dynamicSlotStart_.back() + n * (n + 1) / 2);
+  }
+  dynamicSlots_.resize(static_cast<std::size_t>(dynamicSlotStart_.back()));
+}
+
+void HessianAssembler::ClearDynamicStamps(std::size_t numLists) {
   dynamicValueStage_.resize(dynamicSlots_.size());
   dynamicGradientStage_.resize(dynamicDofs_.size());
   // no contributor of this stage has added anything yet
-  dynamicBlockStamp_.assign(dofLists.size(), 0);
-  dynamicGradientStamp_.assign(dofLists.size(), 0);
+  dynamicBlockStamp_.assign(numLists, 0);
+  dynamicGradientStamp_.assign(numLists, 0);
   if (++dynamicStamp_ == 0) dynamicStamp_ = 1;
+}
+
+bool HessianAssembler::SetDividedDynamicContributors(Span<DynamicArray<int> const> dofLists, Error& error) {
+  // One part of several (docs/distributed.md, "Contact across ranks"): the
+  // pattern does not grow here, so every entry a list needs in this part
+  // (an owned row or column) must be in it already, as it is for contact
+  // with obstacles (a pair within one body's block). Entries of neither an
+  // owned row nor an owned column are not this part's: slot −1, skipped.
+  SetDynamicLists(dofLists);
+  int const rowBegin = GetOwnedRowBegin(), rowEnd = GetOwnedRowEnd();
+  auto const owned = [&](int ordered) { return ordered >= rowBegin && ordered < rowEnd; };
+  constexpr int kMissing = -2;
+  ParallelFor(static_cast<int>(dofLists.size()), kDynamicSlotGrain, [&](int begin, int end, int) {
+    for (int k = begin; k < end; ++k) {
+      int* slots = dynamicSlots_.data() + dynamicSlotStart_[k];
+      auto const& dofs = dofLists[k];
+      int const n = static_cast<int>(dofs.size());
+      for (int a = 0; a < n; ++a)
+        for (int b = a; b < n; ++b) {
+          int const pa = permutation_[dofs[a]], pb = permutation_[dofs[b]];
+          int const row = std::min(pa, pb), col = std::max(pa, pb);
+          if (!owned(row) && !owned(col)) {
+            *slots++ = -1;
+          } else {
+            int const slot = SlotOf(matrix_, row, col);
+            *slots++ = slot >= 0 ? slot : kMissing;
+          }
+        }
+    }
+  });
+  if (auto const missing = std::find(dynamicSlots_.begin(), dynamicSlots_.end(), kMissing);
+      missing != dynamicSlots_.end()) {
+    int const slot = static_cast<int>(missing - dynamicSlots_.begin());
+    int const k = static_cast<int>(std::upper_bound(dynamicSlotStart_.begin(), dynamicSlotStart_.end(), slot) -
+                                   dynamicSlotStart_.begin()) - 1;
+    error.Set(ErrorCode::InvalidState, "changing contributor " + std::to_string(k) +
+                                           " needs entries the pattern lacks, which cannot grow on several parts "
+                                           "(contact between two bodies across MPI ranks)");
+    SetDynamicLists(Span<DynamicArray<int> const>());
+    ClearDynamicStamps(0);
+    return false;
+  }
+  ClearDynamicStamps(dofLists.size());
   return true;
 }
 
@@ -497,14 +556,21 @@ void HessianAssembler::FinishAssembly() {
   // the second family after every static contributor, in its order (both
   // paths: the same sums for any thread count), those that added something
   // in this assembly
+  // (on one part of several: the entries it stores, slot >= 0, and the
+  // gradient in its own rows, as the static contributors')
   int const numDynamic = GetNumDynamicContributors();
+  bool const divided = GetNumParts() > 1;
+  int const rowBegin = GetOwnedRowBegin(), rowEnd = GetOwnedRowEnd();
   for (int k = 0; k < numDynamic; ++k) {
     if (dynamicBlockStamp_[k] == dynamicStamp_)
       for (int s = dynamicSlotStart_[k]; s < dynamicSlotStart_[k + 1]; ++s)
-        matrix_.values[dynamicSlots_[s]] += dynamicValueStage_[s];
+        if (int const slot = dynamicSlots_[s]; slot >= 0) matrix_.values[slot] += dynamicValueStage_[s];
     if (dynamicGradientStamp_[k] == dynamicStamp_)
-      for (int d = dynamicDofStart_[k]; d < dynamicDofStart_[k + 1]; ++d)
-        gradient_[dynamicDofs_[d]] += dynamicGradientStage_[d];
+      for (int d = dynamicDofStart_[k]; d < dynamicDofStart_[k + 1]; ++d) {
+        int const dof = dynamicDofs_[d];
+        if (!divided || (permutation_[dof] >= rowBegin && permutation_[dof] < rowEnd))
+          gradient_[dof] += dynamicGradientStage_[d];
+      }
   }
 }
 

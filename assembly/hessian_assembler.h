@@ -99,10 +99,13 @@ class HessianAssembler {
     bool grew = false;       ///< the pattern was rebuilt (new pattern version)
     bool reordered = false;  ///< ... with a new fill-reducing order
   };
-  /// Sets the second family for the coming stage (after Analyze, in one
-  /// part): contributor k's DoF list dofLists[k] (distinct DoFs). Their
+  /// Sets the second family for the coming stage (after Analyze):
+  /// contributor k's DoF list dofLists[k] (distinct DoFs). Their
   /// block pairs are reserved; where an entry is missing, the pattern grows.
   /// False (nothing changed but the reserved stamps) on a bad DoF list.
+  /// On one part of several the pattern does not grow: a list needing an
+  /// entry it lacks (in an owned row or column) gives false, with no
+  /// changing contributors set.
   /// With `rebuildWhenChanged` (the policy of re-analysing whenever the
   /// pairs change, for comparisons): no reserve; a set of DoF lists that
   /// differs from the last stage's rebuilds and orders the pattern anew for
@@ -152,6 +155,8 @@ class HessianAssembler {
 
   /// Parts of the partition (1: one process, every contributor evaluated).
   int GetNumParts() const { return static_cast<int>(partRowStart_.size()) - 1; }
+  /// This process's part, in [0, GetNumParts()).
+  int GetPart() const { return part_; }
   /// First ordered row of each part, then GetNumDofs() (GetNumParts() + 1).
   DynamicArray<int> const& GetPartRowStart() const { return partRowStart_; }
   int GetOwnedRowBegin() const { return partRowStart_[part_]; }
@@ -325,6 +330,12 @@ class HessianAssembler {
   void ClearDynamicContributors();
   /// Rebuilds the pattern with the reserved pairs, in the kept order or (many
   /// pairs added since the last ordering) a new one.
+  /// The second family's DoF lists and slot ranges (slots sized, unset).
+  void SetDynamicLists(Span<DynamicArray<int> const> dofLists);
+  /// Its staging sized and no contributor stamped for the coming assembly.
+  void ClearDynamicStamps(std::size_t numLists);
+  /// SetDynamicContributors on one part of several.
+  bool SetDividedDynamicContributors(Span<DynamicArray<int> const> dofLists, Error& error);
   bool GrowPattern(DynamicUpdate& update, bool reorder, Error& error);
   void FinishStaticAssembly();
 

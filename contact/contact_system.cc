@@ -208,6 +208,24 @@ Collider* ContactSystem::Add(ColliderParams const& p, RigidActor* rigid, NodalAc
       !CheckWorldInRange(*c, "CreateCollider: the " + std::string(ToString(p.shape)) + "'s", error) ||
       !CheckInRange(c->thickness_, "thickness", error))
     return nullptr;
+  if (obstacleOnlyRanks_ > 1) {
+    // across ranks a pair of two bodies (or of one body with itself) would
+    // join blocks the pattern lacks, which cannot grow there yet
+    std::string const across = "CreateCollider: on a scene across " + std::to_string(obstacleOnlyRanks_) +
+                               " MPI ranks only contact with static and kinematic obstacles is supported: ";
+    if (c->MayTouch(*c)) {
+      error.Set(ErrorCode::NotSupported,
+                across + "this Surface would touch itself (its group is in its mask: give it a mask without it)");
+      return nullptr;
+    }
+    for (auto const& other : colliders_)
+      if (other->Moves() && c->MayTouch(*other)) {
+        error.Set(ErrorCode::NotSupported, across + "it may touch collider " + std::to_string(other->id_) + " (" +
+                                               std::string(ToString(other->shape_)) +
+                                               ", on a body): give them groups and masks that exclude each other");
+        return nullptr;
+      }
+  }
   c->id_ = nextId_++;
   colliders_.push_back(std::move(c));
   trees_.clear();
@@ -1272,7 +1290,10 @@ void ContactSystem::AppendStageContributorDofs(StageDofLists& dofLists) const {
   for (Pair const& pair : pairs_) PairDofs(pair, dofLists.Add());
 }
 
-void ContactSystem::AddEnergy(HessianAssembler const&, int, EnergySum& sum) const {
+void ContactSystem::AddEnergy(HessianAssembler const& assembler, int, EnergySum& sum) const {
+  // across ranks every rank holds every pair (the scene is replicated): the
+  // first part counts their energy, once
+  if (assembler.GetPart() != 0) return;
   ScopedSeconds timer(times_.narrowPhase);
   UpdatePositions(x_);
   // each pair's on the stage's threads, summed in pair order

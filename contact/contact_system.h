@@ -206,6 +206,11 @@ class ContactSystem final : public StageTerm {
                 Error& error);
   /// Removes every collider of `actor` (an actor being destroyed).
   void RemoveActor(ActorHandle actor);
+  /// On a scene across `ranks` MPI ranks (> 1): only contact with static and
+  /// kinematic obstacles, whose pairs touch one body's block of the analysed
+  /// pattern (docs/distributed.md, "Contact across ranks"); Add refuses a
+  /// collider that may touch another body or itself (NotSupported).
+  void SetObstacleContactOnly(int ranks) { obstacleOnlyRanks_ = ranks; }
   bool Empty() const { return colliders_.empty(); }
   int GetNumColliders() const { return static_cast<int>(colliders_.size()); }
   Collider const* GetCollider(int id) const;
@@ -456,6 +461,7 @@ class ContactSystem final : public StageTerm {
                     DynamicArray<contact::IndexPair>& found);
 
   ContactParams params_;
+  int obstacleOnlyRanks_ = 0;  ///< SetObstacleContactOnly (0: any contact)
   DynamicArray<std::unique_ptr<Collider>> colliders_;
   int nextId_ = 0;
   DynamicArray<int> firstVertex_;        ///< every collider's vertices, concatenated

@@ -241,11 +241,17 @@ bool Scene::DestroyActor(ActorHandle handle, Error& error) {
 // ---- contact ----
 
 Collider* Scene::CreateCollider(ColliderParams const& params, Error& error) {
-  if (params_.communicator.IsSet() && params_.communicator.GetSize() > 1) {
-    error.Set(ErrorCode::NotSupported, "CreateCollider: contact on a scene across " +
-                                           std::to_string(params_.communicator.GetSize()) +
-                                           " MPI ranks is not supported yet (docs/contact.md)");
-    return nullptr;
+  if (int const ranks = params_.communicator.IsSet() ? params_.communicator.GetSize() : 1; ranks > 1) {
+    // obstacle contact only (docs/distributed.md, "Contact across ranks"):
+    // its pairs never change the pattern, so the other policy has nothing
+    // to compare and is not built across ranks
+    if (params_.patternPolicy == PatternPolicy::RebuildWhenChanged) {
+      error.Set(ErrorCode::NotSupported, "CreateCollider: SceneParams.patternPolicy RebuildWhenChanged is not "
+                                         "supported on a scene across " +
+                                             std::to_string(ranks) + " MPI ranks (ReserveAndGrow is)");
+      return nullptr;
+    }
+    contact_.SetObstacleContactOnly(ranks);
   }
   RigidActor* rigid = nullptr;
   NodalActor* nodal = nullptr;
