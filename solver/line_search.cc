@@ -132,6 +132,16 @@ bool LineSearch::SecondOrderCorrection(real energy, real slope, SceneStats& stat
   // goes to gradient_ and its solution to delta_
   newtonStep_ = *delta_;
   correctedStep_ = *delta_;
+  // ∇E is put back on every exit: the limited step after a failed
+  // correction takes its slope from it (with the correction's force there,
+  // its slope was the force's, and across ranks, where that force is
+  // assembled in each rank's own rows only, the ranks disagreed)
+  newtonGradient_ = *gradient_;
+  struct Restore {
+    VectorX& to;
+    VectorX const& from;
+    ~Restore() { to = from; }
+  } const restore{*gradient_, newtonGradient_};
   Span<real const> const step(newtonStep_.data(), newtonStep_.size());
   Span<real> const gradient(gradient_->data(), gradient_->size());
   Span<real const> const corrected(correctedStep_.data(), correctedStep_.size());

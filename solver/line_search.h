@@ -66,6 +66,7 @@ class LineSearch {
   VectorX* gradient_ = nullptr;
   VectorX* delta_ = nullptr;
   VectorX newtonStep_, correctedStep_;  ///< δ and δ + Σ δc in a second-order correction; the limited step
+  VectorX newtonGradient_;  ///< ∇E, kept while a second-order correction uses the gradient for its force
   real safeAlpha_ = 1;  ///< the terms' safe step along this iteration's δ
 };
 
