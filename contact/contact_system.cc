@@ -1291,11 +1291,13 @@ void ContactSystem::AppendStageContributorDofs(StageDofLists& dofLists) const {
 }
 
 void ContactSystem::AddEnergy(HessianAssembler const& assembler, int, EnergySum& sum) const {
+  ScopedSeconds timer(times_.narrowPhase);
+  // (the positions on every rank: the safe step and the recentering test
+  // that follow read them)
+  UpdatePositions(x_);
   // across ranks every rank holds every pair (the scene is replicated): the
   // first part counts their energy, once
   if (assembler.GetPart() != 0) return;
-  ScopedSeconds timer(times_.narrowPhase);
-  UpdatePositions(x_);
   // each pair's on the stage's threads, summed in pair order
   int const count = static_cast<int>(pairs_.size());
   ForPairs(count, [this](int begin, int end) {

@@ -1,6 +1,7 @@
 """A scene built from Python on the 2 ranks of `mpiexec -n 2` (SceneParams.communicator =
 mochi.Communicator.world()) agrees with the same scene in one process, with MUMPS and with
-PCG + GAMG; CHOLMOD across the ranks is refused with a mochi.Error naming it.
+PCG + GAMG; CHOLMOD across the ranks is refused with a mochi.Error naming it; the beam
+landing on a static plane agrees too, and a self-touching surface is refused.
 
 ctest starts it through mpiexec (tests/mpi/CMakeLists.txt). Every rank steps the one-process
 scene too, and compares its distributed result with its own reference: an assertion failure
@@ -60,7 +61,44 @@ def main():
     else:
         raise AssertionError("CHOLMOD on 2 ranks was not refused")
     check_disagreement(world)
+    check_obstacle_contact(world)
     print(f"rank {world.get_rank()}: ok")
+
+
+def check_obstacle_contact(world):
+    """Contact with a static obstacle runs across ranks (docs/distributed.md, "Contact across
+    ranks"): the sagging beam lands on a plane 2 cm below it, on 2 ranks as in one process;
+    a surface that would touch itself is refused there with a mochi.Error naming why."""
+    def landing(communicator):
+        scene, beam = beam_on(communicator, mochi.LinearSolverType.PetscMumps)
+        scene.create_collider(shape=mochi.ShapeType.Plane, position=[0, -0.02, 0])
+        scene.create_collider(actor=beam, group=2, mask=~2 & 0xFFFFFFFF)  # no self contact
+        return scene, beam
+
+    reference, reference_beam = landing(mochi.Communicator())
+    distributed, beam = landing(world)
+    touched = 0
+    for _ in range(20):
+        reference.step(DT)
+        distributed.step(DT)
+        assert distributed.get_stats().active_contacts == reference.get_stats().active_contacts
+        touched += distributed.get_stats().active_contacts > 0
+    assert touched > 0  # it landed
+    stats = distributed.get_stats()
+    assert stats.ranks == 2 and stats.pattern_builds == 1 and stats.contact_pattern_builds == 0, stats
+    worst = np.max(np.linalg.norm(beam.get_node_positions() - reference_beam.get_node_positions(), axis=1))
+    assert worst <= 1e-8 * LENGTH, worst
+    assert beam.get_node_positions()[:, 1].min() > -0.02  # above the plane
+
+    scene, beam = beam_on(world, mochi.LinearSolverType.PetscMumps)
+    try:
+        scene.create_collider(actor=beam)  # its group in its mask: self contact
+    except mochi.Error as error:
+        assert error.code == mochi.ErrorCode.NotSupported, error
+        assert "2 MPI ranks" in str(error) and "would touch itself" in str(error), str(error)
+    else:
+        raise AssertionError("a self-touching surface was accepted on 2 ranks")
+    assert scene.get_num_colliders() == 0
 
 
 def check_disagreement(world):
