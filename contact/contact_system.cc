@@ -1014,10 +1014,8 @@ bool ContactSystem::SharesVertex(std::array<int, 4> const& v, int count) {
 real ContactSystem::RestGap(int colliderIndex, PairKind kind, std::array<int, 4> const& v) const {
   // the pair's gap in the actor's rest shape (reference positions)
   Collider const& c = *colliders_[colliderIndex];
-  auto rest = [&](int k) -> Real3 {
-    int const node = c.local_[v[k] - firstVertex_[colliderIndex]].node;
-    if (c.nodal_->GetType() == ActorType::Rod) return static_cast<RodActor const&>(*c.nodal_).GetNodeReferencePosition(node);
-    return static_cast<DeformableActor const&>(*c.nodal_).GetNodeReferencePosition(node);
+  auto rest = [&](int k) -> Real3 const& {
+    return c.nodal_->GetNodeReferencePosition(c.local_[v[k] - firstVertex_[colliderIndex]].node);
   };
   real d2 = 0;
   switch (kind) {
