@@ -93,6 +93,23 @@ int Steps(Scene& scene, int steps) {
   return reusedFactorSolves;
 }
 
+/// How far `actual` is from `expected` and how far `expected` moved from
+/// `initial`, each the largest over the points [m].
+struct Agreement {
+  real worst = 0, moved = 0;
+};
+Agreement Compare(DynamicArray<Real3> const& initial, DynamicArray<Real3> const& expected,
+                  DynamicArray<Real3> const& actual) {
+  REQUIRE(expected.size() == actual.size());
+  REQUIRE(initial.size() == expected.size());
+  Agreement a;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    a.worst = std::max(a.worst, (actual[i] - expected[i]).norm());
+    a.moved = std::max(a.moved, (expected[i] - initial[i]).norm());
+  }
+  return a;
+}
+
 /// Steps `family` at `size` 20 times in one process and on the 2 ranks of
 /// MPI_COMM_WORLD with `solver`, and checks that the positions agree;
 /// returns the reused-factor solves {in one process, on 2 ranks}.
@@ -121,14 +138,8 @@ std::pair<int, int> CheckAgreement(std::string const& family, std::string const&
   // order L), after 20 steps in which the scene moved by far more
   DynamicArray<Real3> const expected = reference.trackedPositions();
   DynamicArray<Real3> const actual = distributed.trackedPositions();
-  REQUIRE(expected.size() == actual.size());
-  real worst = 0, moved = 0;
   perf::FamilyScene start = Build(family, size, Params(Communicator(), solver));
-  DynamicArray<Real3> const initial = start.trackedPositions();
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    worst = std::max(worst, (actual[i] - expected[i]).norm());
-    moved = std::max(moved, (expected[i] - initial[i]).norm());
-  }
+  auto const [worst, moved] = Compare(start.trackedPositions(), expected, actual);
   CAPTURE(worst, moved, reference.length);
   REQUIRE(moved > 1e-4 * reference.length);
   REQUIRE(worst <= 1e-8 * reference.length);
@@ -417,12 +428,7 @@ TEST_CASE("contact with obstacles on 2 ranks agrees with the same scene in one p
   CHECK(stats.patternBuilds == 1);
   CHECK(stats.contactPatternBuilds == 0);
   DynamicArray<Real3> const expected = ColliderVertices(*reference), actual = ColliderVertices(*distributed);
-  REQUIRE(expected.size() == actual.size());
-  real worst = 0, moved = 0;
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    worst = std::max(worst, (actual[i] - expected[i]).norm());
-    moved = std::max(moved, (expected[i] - initial[i]).norm());
-  }
+  auto const [worst, moved] = Compare(initial, expected, actual);
   CAPTURE(worst, moved);
   REQUIRE(moved > 1e-3);  // it fell (0.05 m or 0.9 d̂ and then some)
   // within round-off of the one-process run (the ranks sum in another order)
